@@ -1,0 +1,25 @@
+#pragma once
+// Point cloud with optional normals, floats in millimetres. An organized cloud (a laser scan:
+// width = points per profile, height = profiles) keeps invalid points as NaN so that the grid
+// structure survives; an unorganized one has height 1.
+#include <Eigen/Core>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace laserfit {
+
+struct PointCloud {
+  std::vector<Eigen::Vector3f> points;   // mm
+  std::vector<Eigen::Vector3f> normals;  // unit, empty when not known
+  int width = 0;                         // points per row (organized) or size (unorganized)
+  int height = 1;                        // rows; 1 for unorganized
+  // Provenance written into the file header (source, unit, seed, viewpoints ...).
+  std::map<std::string, std::string> metadata;
+
+  size_t size() const { return points.size(); }
+  bool has_normals() const { return !normals.empty(); }
+  bool organized() const { return height > 1; }
+};
+
+}  // namespace laserfit

@@ -1,0 +1,26 @@
+#pragma once
+// Deterministic randomness independent of the thread count: work is cut into fixed blocks and
+// every block draws from its own generator seeded by (seed, stream, block). Which thread runs a
+// block then cannot change a single bit of the output.
+#include <cstdint>
+#include <random>
+
+namespace laserfit {
+
+// SplitMix64 finaliser (Steele et al. 2014), used only to decorrelate seeds.
+inline uint64_t mix_seed(uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+inline std::mt19937_64 block_rng(uint64_t seed, uint64_t stream, uint64_t block) {
+  return std::mt19937_64(mix_seed(mix_seed(mix_seed(seed) ^ stream) ^ block));
+}
+
+// Uniform double in [0, 1) from 53 random bits: std::uniform_real_distribution's output is
+// implementation-defined, this is not, so files stay identical across standard libraries.
+inline double uniform01(std::mt19937_64& g) { return (g() >> 11) * 0x1.0p-53; }
+
+}  // namespace laserfit

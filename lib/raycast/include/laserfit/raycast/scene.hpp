@@ -1,0 +1,49 @@
+#pragma once
+// Embree ray-casting scene: the one geometric mechanism behind view-dependent reference clouds
+// and the laser-scanner simulator, so that a reference cloud for a view is exactly the surface
+// the noise-free scanner would see.
+#include <Eigen/Core>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "laserfit/core/mesh.hpp"
+#include "laserfit/core/pose.hpp"
+
+namespace laserfit::raycast {
+
+struct Hit {
+  float t = std::numeric_limits<float>::infinity();  // distance along the (unit) ray, mm
+  int geom = -1;                                      // which mesh (order of add_mesh)
+  int prim = -1;                                      // which triangle of that mesh
+  Eigen::Vector3f normal = Eigen::Vector3f::Zero();   // outward face normal, scene frame
+  bool valid() const { return geom >= 0; }
+};
+
+class Scene {
+ public:
+  Scene();
+  ~Scene();
+  Scene(Scene&&) noexcept;
+  Scene& operator=(Scene&&) noexcept;
+
+  // Adds a mesh placed at T_scene_mesh; returns its geometry index. Call commit() before casting.
+  int add_mesh(const TriMesh& mesh, const Pose& T_scene_mesh = Pose::Identity());
+  void commit();
+
+  // Directions must be unit length; [tnear, tfar] in mm. Thread-safe after commit().
+  Hit intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float tnear = 0.f,
+                float tfar = std::numeric_limits<float>::infinity()) const;
+  bool occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float tnear,
+                float tfar) const;
+  // Is the straight segment from `from` to `to` free of geometry (ends excluded by `eps` mm)?
+  bool segment_clear(const Eigen::Vector3f& from, const Eigen::Vector3f& to, float eps) const;
+
+  size_t triangle_count() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace laserfit::raycast

@@ -1,0 +1,127 @@
+#include "laserfit/raycast/scene.hpp"
+
+#include <embree3/rtcore.h>
+
+#include <string>
+
+#include "laserfit/core/error.hpp"
+
+namespace laserfit::raycast {
+namespace {
+
+// Embree reports through a C callback; never throw across it, check the device afterwards.
+void check(RTCDevice device, const char* during) {
+  const RTCError code = rtcGetDeviceError(device);
+  if (code != RTC_ERROR_NONE)
+    throw Error(std::string("Embree failed during ") + during + " (error code " +
+                std::to_string(static_cast<int>(code)) + ")");
+}
+
+}  // namespace
+
+struct Scene::Impl {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  std::vector<std::vector<Eigen::Vector3f>> normals;  // per geometry, per triangle (scene frame)
+  size_t triangles = 0;
+  bool committed = false;
+};
+
+Scene::Scene() : impl_(std::make_unique<Impl>()) {
+  impl_->device = rtcNewDevice("verbose=0");
+  if (!impl_->device) throw Error("Embree: cannot create device");
+  impl_->scene = rtcNewScene(impl_->device);
+  // Robust traversal: no ray slips through a shared edge, which would punch false holes into the
+  // shadow tests of a watertight part.
+  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
+}
+
+Scene::~Scene() {
+  if (!impl_) return;
+  if (impl_->scene) rtcReleaseScene(impl_->scene);
+  if (impl_->device) rtcReleaseDevice(impl_->device);
+}
+
+Scene::Scene(Scene&&) noexcept = default;
+Scene& Scene::operator=(Scene&&) noexcept = default;
+
+int Scene::add_mesh(const TriMesh& mesh, const Pose& T) {
+  if (mesh.empty()) throw Error("cannot add an empty mesh to the ray-casting scene");
+  RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                        mesh.vertices.size()));
+  const Eigen::Affine3f Tf = T.cast<float>();
+  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const Eigen::Vector3f p = Tf * mesh.vertices[i];
+    v[3 * i] = p.x(), v[3 * i + 1] = p.y(), v[3 * i + 2] = p.z();
+  }
+  auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.faces.size()));
+  std::vector<Eigen::Vector3f> nrm(mesh.faces.size());
+  for (size_t f = 0; f < mesh.faces.size(); ++f) {
+    for (int k = 0; k < 3; ++k) idx[3 * f + k] = static_cast<unsigned>(mesh.faces[f][k]);
+    nrm[f] = Tf.linear() * mesh.face_normal(static_cast<int>(f));
+  }
+  rtcCommitGeometry(g);
+  check(impl_->device, "geometry setup");
+  const unsigned id = rtcAttachGeometry(impl_->scene, g);
+  rtcReleaseGeometry(g);
+  if (id != impl_->normals.size()) throw Error("Embree: unexpected geometry id");
+  impl_->normals.push_back(std::move(nrm));
+  impl_->triangles += mesh.faces.size();
+  impl_->committed = false;
+  return static_cast<int>(id);
+}
+
+void Scene::commit() {
+  rtcCommitScene(impl_->scene);
+  check(impl_->device, "BVH build");
+  impl_->committed = true;
+}
+
+size_t Scene::triangle_count() const { return impl_->triangles; }
+
+Hit Scene::intersect(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float tnear,
+                     float tfar) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh{};
+  rh.ray.org_x = o.x(), rh.ray.org_y = o.y(), rh.ray.org_z = o.z();
+  rh.ray.dir_x = d.x(), rh.ray.dir_y = d.y(), rh.ray.dir_z = d.z();
+  rh.ray.tnear = tnear, rh.ray.tfar = tfar;
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->scene, &ctx, &rh);
+  Hit h;
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
+  h.t = rh.ray.tfar;
+  h.geom = static_cast<int>(rh.hit.geomID);
+  h.prim = static_cast<int>(rh.hit.primID);
+  h.normal = impl_->normals[h.geom][h.prim];
+  return h;
+}
+
+bool Scene::occluded(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float tnear,
+                     float tfar) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRay r{};
+  r.org_x = o.x(), r.org_y = o.y(), r.org_z = o.z();
+  r.dir_x = d.x(), r.dir_y = d.y(), r.dir_z = d.z();
+  r.tnear = tnear, r.tfar = tfar;
+  r.mask = 0xFFFFFFFFu;
+  rtcOccluded1(impl_->scene, &ctx, &r);
+  return r.tfar < 0.f;  // Embree sets tfar = -inf on a hit
+}
+
+bool Scene::segment_clear(const Eigen::Vector3f& from, const Eigen::Vector3f& to,
+                          float eps) const {
+  const Eigen::Vector3f d = to - from;
+  const float len = d.norm();
+  if (len <= 2 * eps) return true;
+  return !occluded(from, d / len, eps, len - eps);
+}
+
+}  // namespace laserfit::raycast

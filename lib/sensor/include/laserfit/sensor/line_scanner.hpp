@@ -1,0 +1,49 @@
+#pragma once
+// Geometry of a laser-triangulation line scanner (defaults: Micro-Epsilon LLT3000-25 class) and
+// the visibility rule shared by the scan simulator and view-dependent reference clouds.
+//
+// Sensor frame: origin at the laser emitter; z along the laser axis (measuring direction);
+// x along the projected line (the 2048-point profile); y normal to the laser plane, the sweep
+// direction. The camera sits at +y, `baseline` away, looking back at the laser plane.
+#include <Eigen/Core>
+#include <string>
+
+#include "laserfit/core/pose.hpp"
+#include "laserfit/raycast/scene.hpp"
+
+namespace laserfit::sensor {
+
+struct LineScannerGeometry {
+  int points_per_profile = 2048;        // samples across the line
+  double z_min_mm = 77.5;               // start of the measuring range (from the emitter)
+  double z_max_mm = 102.5;              // end of the measuring range
+  double width_mid_mm = 25.0;           // line length at mid range -> ~12.2 um pitch
+  double triangulation_angle_deg = 25;  // laser axis vs. camera axis at mid range
+  double max_incidence_deg = 80;        // laser incidence beyond which no usable return
+  double max_camera_angle_deg = 80;     // surface seen more obliquely by the camera: no peak
+
+  double z_mid() const { return 0.5 * (z_min_mm + z_max_mm); }
+  double half_fan_rad() const;          // fan half-angle from the emitter
+  double baseline_mm() const;           // emitter-to-camera distance along +y
+  double pitch_mid_mm() const { return width_mid_mm / (points_per_profile - 1); }
+  void validate(const std::string& what) const;  // throws laserfit::Error on nonsense
+};
+
+// Why a surface point is or is not measured; a scan keeps only `Visible`.
+enum class Visibility { Visible, OutOfRange, OutsideFan, Grazing, LaserShadow, CameraShadow };
+const char* visibility_name(Visibility v);
+
+// The one visibility rule. `p`, `n` are a surface point and its outward normal in the scene
+// frame; T_scene_sensor places the sensor. For a swept scanner the emitter is wherever the sweep
+// puts the laser plane through `p` (sensor origin moved along its y axis); for a static one the
+// emitter is the sensor origin. The point is measured when it lies inside the measuring range
+// and fan, the laser hits it not too obliquely and unobstructed (laser shadow), and the camera
+// sees it unobstructed and not too obliquely (camera shadow).
+Visibility line_scanner_visibility(const raycast::Scene& scene, const Pose& T_scene_sensor,
+                                   const LineScannerGeometry& g, const Eigen::Vector3f& p,
+                                   const Eigen::Vector3f& n, bool swept = true);
+
+// The camera of the scanner for a laser plane at sweep offset y (sensor frame).
+Eigen::Vector3d camera_position(const LineScannerGeometry& g, double y_offset_mm = 0.0);
+
+}  // namespace laserfit::sensor
