@@ -1,16 +1,11 @@
 // laserfit cad <model|all> -o DIR: the project's parametric CAD (needle, thread, Task Board 1).
-#include <yaml-cpp/yaml.h>
-
 #include <filesystem>
 #include <memory>
 #include <sstream>
 
 #include "command.hpp"
 #include "laserfit/cad/generator.hpp"
-#include "laserfit/cad/repair.hpp"
-#include "laserfit/core/atomic_file.hpp"
 #include "laserfit/core/error.hpp"
-#include "laserfit/io/mesh_writer.hpp"
 
 namespace laserfit::cli {
 namespace {
@@ -32,30 +27,6 @@ std::map<std::string, double> parse_sets(const std::vector<std::string>& sets) {
     out[s.substr(0, eq)] = v;
   }
   return out;
-}
-
-// The parameters that made a model, next to its meshes: regenerate with `make cad`.
-std::string params_yaml(const cad::GeneratedModel& g, const std::vector<cad::RepairReport>& checks) {
-  YAML::Emitter y;
-  y << YAML::BeginMap << YAML::Key << "model" << YAML::Value << g.model;
-  y << YAML::Key << "generator" << YAML::Value << "laserfit cad (OpenCASCADE B-rep, BRepMesh)";
-  y << YAML::Key << "unit" << YAML::Value << "mm";
-  y << YAML::Key << "deflection_mm" << YAML::Value << g.deflection_mm;
-  y << YAML::Key << "params" << YAML::Value << YAML::BeginMap;
-  for (const auto& [k, v] : g.params) y << YAML::Key << k << YAML::Value << v;
-  y << YAML::EndMap << YAML::Key << "parts" << YAML::Value << YAML::BeginSeq;
-  for (size_t i = 0; i < g.parts.size(); ++i) {
-    const auto& p = g.parts[i];
-    const Eigen::Vector3f e = p.mesh.extent();
-    y << YAML::BeginMap << YAML::Key << "file" << YAML::Value << p.name + ".ply";
-    y << YAML::Key << "frame" << YAML::Value << p.frame;
-    y << YAML::Key << "triangles" << YAML::Value << p.mesh.faces.size();
-    y << YAML::Key << "bbox_mm" << YAML::Value << YAML::Flow << std::vector<float>{e.x(), e.y(), e.z()};
-    y << YAML::Key << "watertight" << YAML::Value << checks[i].watertight;
-    y << YAML::EndMap;
-  }
-  y << YAML::EndSeq << YAML::EndMap;
-  return std::string(y.c_str()) + "\n";
 }
 
 int run(const Options& o) {
@@ -90,32 +61,17 @@ int run(const Options& o) {
   std::ostringstream h;
   for (const auto& name : models) {
     const cad::GeneratedModel g = cad::generate_model(name, overrides);
-    std::vector<cad::RepairReport> checks;
-    for (const auto& p : g.parts) {
-      TriMesh copy = p.mesh;
-      checks.push_back(cad::check_and_repair(copy, {false, false, true}, p.name));
-    }
+    const auto files = cad::write_model(g, o.outdir);
     io::Json parts = io::Json::array();
     for (size_t i = 0; i < g.parts.size(); ++i) {
       const auto& p = g.parts[i];
-      const std::string file = (std::filesystem::path(o.outdir) / (p.name + ".ply")).string();
-      std::map<std::string, std::string> comments{{"source", "laserfit cad " + name}, {"unit", "mm"},
-                                                  {"frame", p.frame}};
-      for (const auto& [k, v] : g.params) {
-        std::ostringstream s;
-        s << v;
-        comments["param." + k] = s.str();
-      }
-      io::write_mesh(file, p.mesh, comments);
       const Eigen::Vector3f e = p.mesh.extent();
-      parts.push_back({{"file", file}, {"triangles", p.mesh.faces.size()},
-                       {"bbox_mm", {e.x(), e.y(), e.z()}}, {"watertight", checks[i].watertight}});
-      h << "wrote " << file << ": " << p.mesh.faces.size() << " triangles, " << e.x() << " x "
-        << e.y() << " x " << e.z() << " mm, " << (checks[i].watertight ? "watertight" : "NOT watertight")
-        << "\n";
+      parts.push_back({{"file", files[i]}, {"triangles", p.mesh.faces.size()},
+                       {"bbox_mm", {e.x(), e.y(), e.z()}}});
+      h << "wrote " << files[i] << ": " << p.mesh.faces.size() << " triangles, " << e.x() << " x "
+        << e.y() << " x " << e.z() << " mm\n";
     }
-    const std::string yaml = (std::filesystem::path(o.outdir) / (name + ".yaml")).string();
-    write_file_atomic(yaml, params_yaml(g, checks));
+    const std::string yaml = files.back();
     h << "wrote " << yaml << "\n";
     j.push_back({{"model", name}, {"params", g.params}, {"parts", parts}, {"params_file", yaml}});
   }

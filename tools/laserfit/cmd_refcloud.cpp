@@ -21,7 +21,9 @@ struct Options {
   bool static_sensor = false, json = false;
 };
 
-// Sensor placed at mid measuring range from the part's bbox centre, looking back along `dir`.
+// Sensor on the ray from the part's bbox centre along `dir`, looking back at the centre, placed so
+// that the part's nearest bbox face lies 10 % into the measuring range (as an operator would
+// place a part: the front in range, as much depth as the range allows behind it).
 Pose view_from_direction(const std::string& text, const TriMesh& mesh,
                          const sensor::LineScannerGeometry& g) {
   std::istringstream in([&] {
@@ -33,8 +35,10 @@ Pose view_from_direction(const std::string& text, const TriMesh& mesh,
   Eigen::Vector3d d;
   if (!(in >> d.x() >> d.y() >> d.z()) || !d.allFinite() || d.norm() < 1e-9)
     throw Error("--view-dir '" + text + "': expected a non-zero direction 'x y z'");
-  const Eigen::Vector3d centre = mesh.bbox().center().cast<double>();
-  const Eigen::Vector3d eye = centre + d.normalized() * g.z_mid();
+  const Eigen::AlignedBox3d box = mesh.bbox().cast<double>();
+  const Eigen::Vector3d centre = box.center(), u = d.normalized();
+  const double support = 0.5 * box.sizes().cwiseProduct(u.cwiseAbs()).sum();  // bbox half-depth along u
+  const Eigen::Vector3d eye = centre + u * (support + g.z_min_mm + 0.1 * (g.z_max_mm - g.z_min_mm));
   // Keep the laser line (sensor x) horizontal-ish: hint x unless we look along x.
   const Eigen::Vector3d hint = std::abs(d.normalized().x()) > 0.9 ? Eigen::Vector3d::UnitY()
                                                                   : Eigen::Vector3d::UnitX();
@@ -127,8 +131,8 @@ Command add_refcloud(CLI::App& root) {
                   "(mm) or 16 numbers; sensor z = viewing direction, y = sweep. Repeatable: views "
                   "are merged");
   app->add_option("--view-dir", o->view_dirs,
-                  "viewpoint from a direction 'x y z' (mesh frame): the sensor looks at the bbox "
-                  "centre from mid measuring range along it. Repeatable");
+                  "viewpoint from a direction 'x y z' (mesh frame): the sensor looks back along it "
+                  "at the bbox centre, the part's near face 10% into the measuring range. Repeatable");
   app->add_option("--max-incidence", o->max_incidence, "incidence cut-off for views (deg)")->capture_default_str();
   app->add_flag("--static", o->static_sensor, "views are static (emitter at the sensor origin), not swept");
   app->add_option("--oversampling", o->oversampling, "Poisson-disk candidates per point")->capture_default_str();

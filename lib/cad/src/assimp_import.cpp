@@ -40,8 +40,9 @@ void append_mesh(const aiMesh& am, const Eigen::Matrix4f& T, TriMesh& out) {
       std::swap(out.faces[f][1], out.faces[f][2]);
 }
 
-// COLLADA's <asset><unit meter="0.001"/> (absent means "1 metre" by the spec, but exporters
-// that omit it almost always meant the numbers as they stand, so absent = undeclared).
+// COLLADA's <asset><unit meter="0.001"/>. assimp applies it itself (its output is then in
+// metres), so a declared unit means "metres now". Absent means "1 metre" by the spec, but
+// exporters that omit it almost always meant the numbers as they stand: treat it as undeclared.
 double collada_unit(const std::string& path, std::string& declared) {
   std::ifstream in(path);
   std::string head(65536, '\0');
@@ -49,8 +50,8 @@ double collada_unit(const std::string& path, std::string& declared) {
   head.resize(static_cast<size_t>(in.gcount()));
   std::smatch m;
   if (std::regex_search(head, m, std::regex(R"(<unit[^>]*meter\s*=\s*"([0-9.eE+-]+)\")"))) {
-    declared = "meter=" + m[1].str();
-    return std::stod(m[1].str()) * 1000.0;
+    declared = "<unit meter=\"" + m[1].str() + "\">";
+    return 1000.0;
   }
   return 0.0;
 }

@@ -44,4 +44,9 @@ const std::vector<ModelInfo>& model_catalogue();
 GeneratedModel generate_model(const std::string& model,
                               const std::map<std::string, double>& overrides = {});
 
+// Writes <dir>/<part>.ply for every part (parameters and frame in the PLY header) and
+// <dir>/<model>.yaml with the parameters that made them. Returns the files written, in order.
+// Output bytes depend only on the model and parameters (`make cad` is reproducible).
+std::vector<std::string> write_model(const GeneratedModel& model, const std::string& dir);
+
 }  // namespace laserfit::cad

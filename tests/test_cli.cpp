@@ -1,0 +1,99 @@
+// The laserfit binary as a user runs it: help, --json, and bad input -> exactly one stderr line,
+// non-zero exit, no output file left behind.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "laserfit/io/cloud_io.hpp"
+#include "laserfit/io/json.hpp"
+#include "test_util.hpp"
+
+using namespace laserfit;
+
+namespace {
+struct Result {
+  int code;
+  std::string out, err;
+};
+
+Result run(const std::string& args, const test::TempDir& dir) {
+  const std::string out = dir / "stdout.txt", err = dir / "stderr.txt";
+  const std::string cmd = std::string(LASERFIT_BIN) + " " + args + " >" + out + " 2>" + err;
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, test::read_bytes(out), test::read_bytes(err)};
+}
+
+size_t lines(const std::string& s) { return std::count(s.begin(), s.end(), '\n'); }
+const std::string kPanel = test::data("o2ac/02-PANEL.stl").string();
+const std::string kPlug = std::string(LASERFIT_SOURCE_DIR) + "/cad/usb_a_plug.ply";
+}  // namespace
+
+TEST(Cli, HelpForEverySubcommand) {
+  test::TempDir dir;
+  EXPECT_EQ(run("--help", dir).code, 0);
+  for (const char* sub : {"import", "refcloud", "cad"}) {
+    const auto r = run(std::string(sub) + " --help", dir);
+    EXPECT_EQ(r.code, 0) << sub;
+    EXPECT_NE(r.out.find("--json"), std::string::npos) << sub;
+  }
+  EXPECT_NE(run("frobnicate", dir).code, 0);
+}
+
+TEST(Cli, ImportJsonReport) {
+  test::TempDir dir;
+  const auto r = run("import " + kPanel + " -o " + (dir / "p.ply") + " --json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = io::Json::parse(r.out);
+  for (const char* key : {"triangles", "vertices", "bbox_mm", "watertight", "unit", "repair"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_EQ(j["triangles"], 1150);
+  EXPECT_NEAR(j["bbox_mm"][0].get<double>(), 70.0, 1e-3);
+  EXPECT_TRUE(std::filesystem::exists(dir / "p.ply"));
+}
+
+TEST(Cli, RefcloudIsSeededAndRecordsItsProvenance) {
+  test::TempDir dir;
+  const std::string args = "refcloud " + kPlug + " -n 20000 --view-dir 0,0,1 --seed 7 -o ";
+  ASSERT_EQ(run(args + (dir / "a.pcd"), dir).code, 0);
+  ASSERT_EQ(run(args + (dir / "b.pcd"), dir).code, 0);
+  EXPECT_TRUE(test::read_bytes(dir / "a.pcd") == test::read_bytes(dir / "b.pcd"));
+  const auto meta = io::read_header_metadata(dir / "a.pcd");
+  EXPECT_EQ(meta.at("seed"), "7");
+  EXPECT_EQ(meta.at("views"), "1");
+  EXPECT_EQ(meta.at("unit"), "mm");
+  EXPECT_TRUE(meta.count("view0.T_mesh_sensor"));
+}
+
+TEST(Cli, BadInputOneLineNonZeroNoOutput) {
+  test::TempDir dir;
+  test::write_text(dir / "trunc.stl", test::read_bytes(kPanel).substr(0, 700));
+  test::write_text(dir / "empty.obj", "");
+  const std::string out = dir / "out.ply";
+  const std::string cloud = dir / "out.pcd";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"import " + (dir / "missing.step") + " -o " + out, out},
+      {"import " + (dir / "trunc.stl") + " -o " + out, out},
+      {"import " + (dir / "empty.obj") + " -o " + out, out},
+      {"import " + kPanel + " -o " + (dir / "no_such_dir/out.ply"), dir / "no_such_dir/out.ply"},
+      {"import " + kPanel + " -o " + (dir / "out.xyz"), dir / "out.xyz"},
+      {"import " + kPanel + " --unit furlong -o " + out, out},
+      {"refcloud " + kPlug + " -o " + cloud, cloud},                       // no count/density
+      {"refcloud " + kPlug + " -n 100 --view '1 2 3' -o " + cloud, cloud},  // bad pose
+      {"refcloud " + kPlug + " -n 100 --view '0 0 500 1 0 0 0' -o " + cloud, cloud},  // sees nothing
+      {"refcloud " + kPlug + " -n 100 --method best -o " + cloud, cloud},
+      {"cad teapot -o " + (dir / "cad"), dir / "cad/teapot.yaml"},
+      {"cad needle --set eye_width=9 -o " + (dir / "cad"), dir / "cad/needle.ply"},
+  };
+  for (const auto& [args, output] : cases) {
+    SCOPED_TRACE(args);
+    const auto r = run(args, dir);
+    EXPECT_NE(r.code, 0);
+    EXPECT_EQ(lines(r.err), 1u) << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(output));
+  }
+  // Nothing half-written anywhere (temporary files included).
+  for (const auto& e : std::filesystem::directory_iterator(dir.path))
+    EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << e.path();
+}
