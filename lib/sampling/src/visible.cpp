@@ -14,12 +14,11 @@ namespace {
 
 // Visible subset of `c`, order preserved (deterministic whatever the threading).
 SurfaceSamples keep_visible(const SurfaceSamples& c, const raycast::Scene& scene,
-                            const ViewSettings& v) {
+                            const std::vector<sensor::LineScannerView>& views) {
   std::vector<uint8_t> keep(c.points.size(), 0);
   tbb::parallel_for(size_t(0), c.points.size(), [&](size_t i) {
-    for (const auto& T : v.T_mesh_sensor)
-      if (sensor::line_scanner_visibility(scene, T, v.geometry, c.points[i], c.normals[i],
-                                          v.swept) == sensor::Visibility::Visible) {
+    for (const auto& view : views)
+      if (view.visibility(scene, c.points[i], c.normals[i]) == sensor::Visibility::Visible) {
         keep[i] = 1;
         break;
       }
@@ -38,6 +37,8 @@ PointCloud sample_visible(const TriMesh& mesh, const ViewSettings& v, const Samp
   raycast::Scene scene;
   scene.add_mesh(mesh);
   scene.commit();
+  std::vector<sensor::LineScannerView> views;
+  for (const auto& T : v.T_mesh_sensor) views.emplace_back(T, v.geometry, v.swept);
   const double area = mesh.area();
   const bool poisson = s.method == Method::PoissonDisk;
   const double over = poisson ? s.poisson_oversampling : 1.0;
@@ -52,7 +53,7 @@ PointCloud sample_visible(const TriMesh& mesh, const ViewSettings& v, const Samp
     const size_t want = poisson ? candidate_count(s.count, over) : s.count;
     const size_t batch_blocks = std::max<size_t>(16, (want + kBlock - 1) / kBlock);
     for (uint64_t first = 0; visible.points.size() < want; first += batch_blocks) {
-      auto got = keep_visible(uniform_candidates(mesh, batch_blocks * kBlock, s.seed, first), scene, v);
+      auto got = keep_visible(uniform_candidates(mesh, batch_blocks * kBlock, s.seed, first), scene, views);
       drawn += batch_blocks * kBlock;
       visible.points.insert(visible.points.end(), got.points.begin(), got.points.end());
       visible.normals.insert(visible.normals.end(), got.normals.begin(), got.normals.end());
@@ -69,7 +70,7 @@ PointCloud sample_visible(const TriMesh& mesh, const ViewSettings& v, const Samp
     visible.points.resize(want), visible.normals.resize(want);
   } else {
     drawn = static_cast<size_t>(std::ceil(resolve_count(s, area) * over));
-    visible = keep_visible(uniform_candidates(mesh, drawn, s.seed), scene, v);
+    visible = keep_visible(uniform_candidates(mesh, drawn, s.seed), scene, views);
     if (visible.points.empty())
       throw Error("no surface point is visible from the viewpoint(s); check the view poses");
     visible_fraction = double(visible.points.size()) / double(drawn);

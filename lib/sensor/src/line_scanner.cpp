@@ -38,26 +38,37 @@ Eigen::Vector3d camera_position(const LineScannerGeometry& g, double y) {
   return {0.0, y + g.baseline_mm(), 0.0};
 }
 
-Visibility line_scanner_visibility(const raycast::Scene& scene, const Pose& T_scene_sensor,
-                                   const LineScannerGeometry& g, const Eigen::Vector3f& p,
-                                   const Eigen::Vector3f& n, bool swept) {
-  const Eigen::Vector3d ps = T_scene_sensor.inverse() * p.cast<double>();
-  if (ps.z() < g.z_min_mm || ps.z() > g.z_max_mm) return Visibility::OutOfRange;
-  if (std::abs(std::atan2(ps.x(), ps.z())) > g.half_fan_rad()) return Visibility::OutsideFan;
-  const double y = swept ? ps.y() : 0.0;
-  const Eigen::Vector3f emitter = (T_scene_sensor * Eigen::Vector3d(0, y, 0)).cast<float>();
-  const Eigen::Vector3f camera = (T_scene_sensor * camera_position(g, y)).cast<float>();
+LineScannerView::LineScannerView(const Pose& T, const LineScannerGeometry& g, bool swept)
+    : T_scene_sensor_(T),
+      T_sensor_scene_(T.inverse()),
+      g_(g),
+      swept_(swept),
+      tan_half_fan_(std::tan(g.half_fan_rad())),
+      baseline_(g.baseline_mm()),
+      cos_max_incidence_(static_cast<float>(std::cos(g.max_incidence_deg * M_PI / 180.0))),
+      cos_max_camera_(static_cast<float>(std::cos(g.max_camera_angle_deg * M_PI / 180.0))) {}
 
-  const Eigen::Vector3f to_laser = (emitter - p).normalized();
-  const Eigen::Vector3f to_camera = (camera - p).normalized();
-  const float cos_laser = n.dot(to_laser), cos_cam = n.dot(to_camera);
-  if (cos_laser < std::cos(g.max_incidence_deg * M_PI / 180.0)) return Visibility::Grazing;
-  if (cos_cam < std::cos(g.max_camera_angle_deg * M_PI / 180.0)) return Visibility::CameraShadow;
+Visibility LineScannerView::visibility(const raycast::Scene& scene, const Eigen::Vector3f& p,
+                                       const Eigen::Vector3f& n) const {
+  const Eigen::Vector3d ps = T_sensor_scene_ * p.cast<double>();
+  if (ps.z() < g_.z_min_mm || ps.z() > g_.z_max_mm) return Visibility::OutOfRange;
+  if (std::abs(ps.x()) > ps.z() * tan_half_fan_) return Visibility::OutsideFan;
+  const double y = swept_ ? ps.y() : 0.0;
+  const Eigen::Vector3f emitter = (T_scene_sensor_ * Eigen::Vector3d(0, y, 0)).cast<float>();
+  const Eigen::Vector3f camera = (T_scene_sensor_ * Eigen::Vector3d(0, y + baseline_, 0)).cast<float>();
+  if (n.dot((emitter - p).normalized()) < cos_max_incidence_) return Visibility::Grazing;
+  if (n.dot((camera - p).normalized()) < cos_max_camera_) return Visibility::CameraShadow;
   // A few micrometres of slack so the surface the point lies on does not shadow itself.
   const float eps = 2e-3f;
   if (!scene.segment_clear(p + eps * n, emitter, eps)) return Visibility::LaserShadow;
   if (!scene.segment_clear(p + eps * n, camera, eps)) return Visibility::CameraShadow;
   return Visibility::Visible;
+}
+
+Visibility line_scanner_visibility(const raycast::Scene& scene, const Pose& T_scene_sensor,
+                                   const LineScannerGeometry& g, const Eigen::Vector3f& p,
+                                   const Eigen::Vector3f& n, bool swept) {
+  return LineScannerView(T_scene_sensor, g, swept).visibility(scene, p, n);
 }
 
 }  // namespace laserfit::sensor

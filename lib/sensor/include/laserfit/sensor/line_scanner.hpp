@@ -33,6 +33,23 @@ struct LineScannerGeometry {
 enum class Visibility { Visible, OutOfRange, OutsideFan, Grazing, LaserShadow, CameraShadow };
 const char* visibility_name(Visibility v);
 
+// A scanner placed in a scene, with everything the visibility rule needs precomputed (it runs
+// once or twice per candidate point, millions of times per cloud).
+class LineScannerView {
+ public:
+  LineScannerView(const Pose& T_scene_sensor, const LineScannerGeometry& g, bool swept = true);
+  Visibility visibility(const raycast::Scene& scene, const Eigen::Vector3f& p,
+                        const Eigen::Vector3f& n) const;
+  const Pose& T_scene_sensor() const { return T_scene_sensor_; }
+
+ private:
+  Pose T_scene_sensor_, T_sensor_scene_;
+  LineScannerGeometry g_;
+  bool swept_;
+  double tan_half_fan_, baseline_;
+  float cos_max_incidence_, cos_max_camera_;
+};
+
 // The one visibility rule. `p`, `n` are a surface point and its outward normal in the scene
 // frame; T_scene_sensor places the sensor. For a swept scanner the emitter is wherever the sweep
 // puts the laser plane through `p` (sensor origin moved along its y axis); for a static one the
