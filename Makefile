@@ -45,7 +45,7 @@ demo: build
 	$(BIN)/laserfit import tests/data/o2ac/02-PANEL.step -o out/demo/panel.ply
 	$(BIN)/laserfit refcloud cad/usb_a_plug.ply -o out/demo/usb_plug_full.pcd --count 200000 --method uniform --seed 1
 	$(BIN)/laserfit refcloud cad/usb_a_plug.ply -o out/demo/usb_plug_front.pcd --count 100000 --view-dir 0,0,1 --seed 1
-	$(BIN)/laserfit refcloud cad/needle.ply -o out/demo/needle_top.pcd --density 400 --method poisson --view-dir 0,0,1 --seed 1
+	$(BIN)/laserfit refcloud cad/needle.ply -o out/demo/needle_eye.pcd --density 2000 --method poisson --view "0 0 85 0 1 0 0" --seed 1
 	@echo; echo "demo outputs in out/demo/:"; ls -l out/demo
 
 # Regenerate the committed parametric CAD in cad/ (deterministic: same bytes every time).

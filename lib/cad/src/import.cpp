@@ -42,7 +42,7 @@ void resolve_unit(const ImportSettings& s, const RawMesh& raw,
   }
   if (raw.declared_to_mm > 0) {
     r.unit_source = "file";
-    r.unit_note = "declared in file: " + raw.declared_unit;
+    r.unit_note = raw.declared_unit;
     r.unit = std::abs(raw.declared_to_mm - 1.0) < 1e-12      ? Unit::Millimetre
              : std::abs(raw.declared_to_mm - 1000.0) < 1e-9  ? Unit::Metre
              : std::abs(raw.declared_to_mm - 25.4) < 1e-9    ? Unit::Inch
