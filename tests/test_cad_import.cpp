@@ -1,5 +1,12 @@
 // CAD import on real files (tests/data/o2ac, Team O2AC, MIT) in every supported format.
+#include <BRepPrimAPI_MakeBox.hxx>
 #include <IGESControl_Controller.hxx>
+#include <STEPCAFControl_Writer.hxx>
+#include <TDataStd_Name.hxx>
+#include <TDocStd_Document.hxx>
+#include <XCAFApp_Application.hxx>
+#include <XCAFDoc_DocumentTool.hxx>
+#include <XCAFDoc_ShapeTool.hxx>
 #include <IGESControl_Writer.hxx>
 #include <STEPControl_Reader.hxx>
 #include <assimp/postprocess.h>
@@ -163,13 +170,34 @@ TEST(Import, SelectsAPartByName) {
   }
 }
 
+TEST(Import, SelectsAStepPartByName) {
+  // A two-part STEP file written through OpenCASCADE's XDE with product names.
+  test::TempDir dir;
+  Handle(TDocStd_Document) doc;
+  XCAFApp_Application::GetApplication()->NewDocument("MDTV-XCAF", doc);
+  const Handle(XCAFDoc_ShapeTool) tool = XCAFDoc_DocumentTool::ShapeTool(doc->Main());
+  TDataStd_Name::Set(tool->AddShape(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 4, 5, 6).Shape()), "small_box");
+  TDataStd_Name::Set(tool->AddShape(BRepPrimAPI_MakeBox(gp_Pnt(20, 0, 0), 10, 10, 10).Shape()), "big_box");
+  STEPCAFControl_Writer writer;
+  ASSERT_TRUE(writer.Transfer(doc, STEPControl_AsIs));
+  ASSERT_EQ(writer.Write((dir / "two.step").c_str()), IFSelect_RetDone);
+  cad::ImportSettings s;
+  EXPECT_NEAR(import(dir / "two.step", s).mesh.extent().x(), 30.0, 1e-4);  // merged
+  s.part = "small_box";
+  const auto small = import(dir / "two.step", s);
+  EXPECT_LT((small.mesh.extent() - Eigen::Vector3f(4, 5, 6)).cwiseAbs().maxCoeff(), 1e-4);
+  EXPECT_NEAR(small.repair.volume_mm3, 120.0, 1e-3);
+  s.part = "no_such_box";
+  EXPECT_THROW(import(dir / "two.step", s), Error);
+}
+
 TEST(Import, BadFilesGiveOneClearError) {
   test::TempDir dir;
   const std::string stl = test::read_bytes(data("o2ac/02-PANEL.stl"));
   const std::string step = test::read_bytes(data("o2ac/02-PANEL.step"));
   test::write_text(dir / "trunc.stl", stl.substr(0, 1000));
   test::write_text(dir / "trunc.step", step.substr(0, step.size() / 2));
-  test::write_text(dir / "garbage.obj", std::string("\x01\x02garbage\xff\xfe not an obj", 24));
+  test::write_text(dir / "garbage.obj", std::string("\x01\x02garbage\xff\xfe not an obj"));
   test::write_text(dir / "garbage.ply", "ply\nformat ascii 1.0\nelement vertex 3\nend_header\n1 2\n");
   test::write_text(dir / "garbage.step", "ISO-10303-21;\nHEADER;\nthis is not step\n");
   test::write_text(dir / "empty.stl", "");
