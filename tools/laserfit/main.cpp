@@ -13,7 +13,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "laserfit 0.1.0");
   std::vector<laserfit::cli::Command> commands = {laserfit::cli::add_import(app),
                                                   laserfit::cli::add_refcloud(app),
-                                                  laserfit::cli::add_cad(app)};
+                                                  laserfit::cli::add_cad(app),
+                                                  laserfit::cli::add_scan(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

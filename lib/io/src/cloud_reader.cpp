@@ -103,12 +103,18 @@ PointCloud read_cloud(const std::string& path) {
       onz = float_field(blob, "normal_z");
   if (onx < 0) onx = float_field(blob, "nx"), ony = float_field(blob, "ny"), onz = float_field(blob, "nz");
   const bool normals = onx >= 0 && ony >= 0 && onz >= 0;
+  int olabel = -1;
+  for (const auto& f : blob.fields)
+    if (f.name == "label" && f.count == 1 &&
+        (f.datatype == pcl::PCLPointField::INT32 || f.datatype == pcl::PCLPointField::UINT32))
+      olabel = static_cast<int>(f.offset);
 
   PointCloud c;
   c.width = static_cast<int>(blob.width);
   c.height = static_cast<int>(blob.height);
   c.points.resize(n);
   if (normals) c.normals.resize(n);
+  if (olabel >= 0) c.labels.resize(n);
   auto get = [&](size_t i, int off) {
     float v;
     std::memcpy(&v, &blob.data[i * blob.point_step + off], sizeof(float));
@@ -117,6 +123,7 @@ PointCloud read_cloud(const std::string& path) {
   for (size_t i = 0; i < n; ++i) {
     c.points[i] = {get(i, ox), get(i, oy), get(i, oz)};
     if (normals) c.normals[i] = {get(i, onx), get(i, ony), get(i, onz)};
+    if (olabel >= 0) std::memcpy(&c.labels[i], &blob.data[i * blob.point_step + olabel], 4);
   }
   c.metadata = read_header_metadata(path);
   return c;

@@ -22,6 +22,12 @@ void LineScannerGeometry::validate(const std::string& what) const {
   if (!(max_camera_angle_deg > 0 && max_camera_angle_deg <= 90)) bad("max_camera_angle_deg must be in (0, 90]");
 }
 
+Eigen::Vector3d LineScannerGeometry::ray_direction(int j) const {
+  const double h = half_fan_rad();
+  const double a = -h + 2.0 * h * j / (points_per_profile - 1);
+  return {std::sin(a), 0.0, std::cos(a)};
+}
+
 const char* visibility_name(Visibility v) {
   switch (v) {
     case Visibility::Visible: return "visible";
@@ -48,6 +54,15 @@ LineScannerView::LineScannerView(const Pose& T, const LineScannerGeometry& g, bo
       cos_max_incidence_(static_cast<float>(std::cos(g.max_incidence_deg * M_PI / 180.0))),
       cos_max_camera_(static_cast<float>(std::cos(g.max_camera_angle_deg * M_PI / 180.0))) {}
 
+Eigen::Vector3f LineScannerView::camera_in_scene(double y) const {
+  return (T_scene_sensor_ * Eigen::Vector3d(0, y + baseline_, 0)).cast<float>();
+}
+
+bool LineScannerView::camera_angle_ok(const Eigen::Vector3f& p, const Eigen::Vector3f& n,
+                                      double y) const {
+  return n.dot((camera_in_scene(y) - p).normalized()) >= cos_max_camera_;
+}
+
 Visibility LineScannerView::visibility(const raycast::Scene& scene, const Eigen::Vector3f& p,
                                        const Eigen::Vector3f& n) const {
   const Eigen::Vector3d ps = T_sensor_scene_ * p.cast<double>();
@@ -55,11 +70,10 @@ Visibility LineScannerView::visibility(const raycast::Scene& scene, const Eigen:
   if (std::abs(ps.x()) > ps.z() * tan_half_fan_) return Visibility::OutsideFan;
   const double y = swept_ ? ps.y() : 0.0;
   const Eigen::Vector3f emitter = (T_scene_sensor_ * Eigen::Vector3d(0, y, 0)).cast<float>();
-  const Eigen::Vector3f camera = (T_scene_sensor_ * Eigen::Vector3d(0, y + baseline_, 0)).cast<float>();
+  const Eigen::Vector3f camera = camera_in_scene(y);
   if (n.dot((emitter - p).normalized()) < cos_max_incidence_) return Visibility::Grazing;
-  if (n.dot((camera - p).normalized()) < cos_max_camera_) return Visibility::CameraShadow;
-  // A few micrometres of slack so the surface the point lies on does not shadow itself.
-  const float eps = 2e-3f;
+  if (!camera_angle_ok(p, n, y)) return Visibility::CameraShadow;
+  const float eps = kSelfShadowEps_mm;
   if (!scene.segment_clear(p + eps * n, emitter, eps)) return Visibility::LaserShadow;
   if (!scene.segment_clear(p + eps * n, camera, eps)) return Visibility::CameraShadow;
   return Visibility::Visible;

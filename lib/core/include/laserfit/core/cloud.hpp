@@ -3,6 +3,7 @@
 // width = points per profile, height = profiles) keeps invalid points as NaN so that the grid
 // structure survives; an unorganized one has height 1.
 #include <Eigen/Core>
+#include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
@@ -12,6 +13,7 @@ namespace laserfit {
 struct PointCloud {
   std::vector<Eigen::Vector3f> points;   // mm
   std::vector<Eigen::Vector3f> normals;  // unit, empty when not known
+  std::vector<int32_t> labels;           // per point (e.g. which object), empty when not known
   int width = 0;                         // points per row (organized) or size (unorganized)
   int height = 1;                        // rows; 1 for unorganized
   // Provenance written into the file header (source, unit, seed, viewpoints ...).

@@ -2,6 +2,7 @@
 // Deterministic randomness independent of the thread count: work is cut into fixed blocks and
 // every block draws from its own generator seeded by (seed, stream, block). Which thread runs a
 // block then cannot change a single bit of the output.
+#include <cmath>
 #include <cstdint>
 #include <random>
 
@@ -22,5 +23,12 @@ inline std::mt19937_64 block_rng(uint64_t seed, uint64_t stream, uint64_t block)
 // Uniform double in [0, 1) from 53 random bits: std::uniform_real_distribution's output is
 // implementation-defined, this is not, so files stay identical across standard libraries.
 inline double uniform01(std::mt19937_64& g) { return (g() >> 11) * 0x1.0p-53; }
+
+// Standard normal by Box-Muller on uniform01 (again: the std distributions differ between
+// standard libraries; this keeps noise bit-identical everywhere).
+inline double gauss(std::mt19937_64& g) {
+  const double u1 = 1.0 - uniform01(g), u2 = uniform01(g);  // u1 in (0, 1]
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
+}
 
 }  // namespace laserfit

@@ -2,6 +2,7 @@
 #include <map>
 #include <string>
 
+#include "laserfit/core/atomic_file.hpp"
 #include "laserfit/core/cloud.hpp"
 
 namespace laserfit::io {
@@ -11,6 +12,9 @@ namespace laserfit::io {
 // invalid points. cloud.metadata goes into header comments ("# laserfit.<key> <value>" in PCD,
 // "comment laserfit.<key> <value>" in PLY), so every file says where it came from.
 void write_cloud(const std::string& path, const PointCloud& cloud);
+// The same into an open AtomicFile (the caller commits), for commands that write several files
+// and commit them together.
+void write_cloud(AtomicFile& file, const PointCloud& cloud);
 
 // Reads PCD (ascii / binary / binary_compressed) or PLY through PCL, plus our header metadata.
 // Throws laserfit::Error naming the file for missing, empty, truncated or malformed input.

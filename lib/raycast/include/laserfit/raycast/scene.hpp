@@ -39,6 +39,15 @@ class Scene {
   // Is the straight segment from `from` to `to` free of geometry (ends excluded by `eps` mm)?
   bool segment_clear(const Eigen::Vector3f& from, const Eigen::Vector3f& to, float eps) const;
 
+  // Coherent batches (Embree 8-wide packets): a laser profile is 2048 rays from one emitter.
+  // hits[i] is the first hit of ray (origin, dirs[i]) within [tnear, tfar].
+  void intersect_fan(const Eigen::Vector3f& origin, const std::vector<Eigen::Vector3f>& dirs,
+                     float tnear, float tfar, std::vector<Hit>& hits) const;
+  // clear[i] = segment from[i] -> to[i] free of geometry (ends excluded by eps), for the rays
+  // with active[i]; inactive entries are left untouched.
+  void segments_clear(const std::vector<Eigen::Vector3f>& from, const std::vector<Eigen::Vector3f>& to,
+                      const std::vector<uint8_t>& active, float eps, std::vector<uint8_t>& clear) const;
+
   size_t triangle_count() const;
 
  private:

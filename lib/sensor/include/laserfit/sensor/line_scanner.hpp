@@ -26,8 +26,15 @@ struct LineScannerGeometry {
   double half_fan_rad() const;          // fan half-angle from the emitter
   double baseline_mm() const;           // emitter-to-camera distance along +y
   double pitch_mid_mm() const { return width_mid_mm / (points_per_profile - 1); }
+  // Unit direction of profile column `j`'s laser ray in the sensor frame (x-z laser plane),
+  // equally spaced in angle across the fan.
+  Eigen::Vector3d ray_direction(int j) const;
   void validate(const std::string& what) const;  // throws laserfit::Error on nonsense
 };
+
+// Offset (mm) off the surface before an occlusion ray starts, so the surface a point lies on
+// does not shadow itself; both the scanner and the reference clouds use it.
+inline constexpr float kSelfShadowEps_mm = 2e-3f;
 
 // Why a surface point is or is not measured; a scan keeps only `Visible`.
 enum class Visibility { Visible, OutOfRange, OutsideFan, Grazing, LaserShadow, CameraShadow };
@@ -41,6 +48,11 @@ class LineScannerView {
   Visibility visibility(const raycast::Scene& scene, const Eigen::Vector3f& p,
                         const Eigen::Vector3f& n) const;
   const Pose& T_scene_sensor() const { return T_scene_sensor_; }
+  // Camera half of the rule, for a point the laser already reaches (the scanner's laser ray hit
+  // it first): camera angle and camera occlusion. `y` is the sweep offset of the laser plane.
+  bool camera_angle_ok(const Eigen::Vector3f& p, const Eigen::Vector3f& n, double y = 0) const;
+  Eigen::Vector3f camera_in_scene(double y = 0) const;
+  float cos_max_incidence() const { return cos_max_incidence_; }
 
  private:
   Pose T_scene_sensor_, T_sensor_scene_;

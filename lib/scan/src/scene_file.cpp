@@ -1,0 +1,202 @@
+// Scene files (YAML). Strict: an unknown key is an error (a typo must not silently fall back to a
+// default), and every problem is reported as "<scene file>: <where>: <what>".
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "laserfit/cad/import.hpp"
+#include "laserfit/core/error.hpp"
+#include "laserfit/scan/scanner.hpp"
+
+namespace laserfit::scan {
+namespace {
+
+struct Reader {
+  std::string file;
+
+  [[noreturn]] void fail(const std::string& where, const std::string& what) const {
+    throw Error(file, where + ": " + what);
+  }
+  void only(const YAML::Node& n, const std::string& where, std::set<std::string> keys) const {
+    if (!n.IsMap()) fail(where, "expected a mapping");
+    for (const auto& kv : n) {
+      const auto k = kv.first.as<std::string>();
+      if (!keys.count(k)) fail(where, "unknown key '" + k + "'");
+    }
+  }
+  double num(const YAML::Node& n, const std::string& key, double def, const std::string& where) const {
+    if (!n[key]) return def;
+    try {
+      const double v = n[key].as<double>();
+      if (!std::isfinite(v)) fail(where + "." + key, "not a finite number");
+      return v;
+    } catch (const YAML::Exception&) {
+      fail(where + "." + key, "not a number");
+    }
+  }
+  bool flag(const YAML::Node& n, const std::string& key, bool def, const std::string& where) const {
+    if (!n[key]) return def;
+    try {
+      return n[key].as<bool>();
+    } catch (const YAML::Exception&) {
+      fail(where + "." + key, "expected true or false");
+    }
+  }
+  std::vector<double> list(const YAML::Node& n, const std::string& where) const {
+    if (!n.IsSequence()) fail(where, "expected a list of numbers");
+    std::vector<double> v;
+    try {
+      for (const auto& x : n) v.push_back(x.as<double>());
+    } catch (const YAML::Exception&) {
+      fail(where, "expected a list of numbers");
+    }
+    return v;
+  }
+  Pose pose(const YAML::Node& n, const std::string& where) const {
+    std::ostringstream s;
+    s.precision(17);
+    for (double x : list(n, where)) s << x << ' ';
+    try {
+      return parse_pose(s.str(), where);
+    } catch (const Error& e) {
+      throw Error(file, e.what());
+    }
+  }
+};
+
+void read_sensor(const Reader& R, const YAML::Node& n, sensor::LineScannerGeometry& g) {
+  R.only(n, "sensor", {"points_per_profile", "z_min_mm", "z_max_mm", "width_mid_mm",
+                       "triangulation_angle_deg", "max_incidence_deg", "max_camera_angle_deg"});
+  const double ppp = R.num(n, "points_per_profile", g.points_per_profile, "sensor");
+  if (ppp != std::floor(ppp)) R.fail("sensor.points_per_profile", "must be an integer");
+  g.points_per_profile = static_cast<int>(ppp);
+  g.z_min_mm = R.num(n, "z_min_mm", g.z_min_mm, "sensor");
+  g.z_max_mm = R.num(n, "z_max_mm", g.z_max_mm, "sensor");
+  g.width_mid_mm = R.num(n, "width_mid_mm", g.width_mid_mm, "sensor");
+  g.triangulation_angle_deg = R.num(n, "triangulation_angle_deg", g.triangulation_angle_deg, "sensor");
+  g.max_incidence_deg = R.num(n, "max_incidence_deg", g.max_incidence_deg, "sensor");
+  g.max_camera_angle_deg = R.num(n, "max_camera_angle_deg", g.max_camera_angle_deg, "sensor");
+}
+
+void read_sweep(const Reader& R, const YAML::Node& n, SweepSettings& s) {
+  R.only(n, "sweep", {"start", "center", "direction", "length_mm", "speed_mm_s", "profile_rate_hz"});
+  if (!!n["start"] == !!n["center"])
+    R.fail("sweep", "give either 'start' (sensor pose at the first profile) or 'center' (at mid-sweep)");
+  const YAML::Node p = n["start"] ? n["start"] : n["center"];
+  const std::string where = n["start"] ? "sweep.start" : "sweep.center";
+  if (p.IsMap()) {  // {look_from: [x,y,z], look_at: [x,y,z], line: [x,y,z]} instead of a pose
+    R.only(p, where, {"look_from", "look_at", "line"});
+    if (!p["look_from"] || !p["look_at"]) R.fail(where, "needs look_from and look_at");
+    auto vec = [&](const char* k) {
+      const auto v = R.list(p[k], where + "." + k);
+      if (v.size() != 3) R.fail(where + "." + k, "expected [x, y, z]");
+      return Eigen::Vector3d(v[0], v[1], v[2]);
+    };
+    const Eigen::Vector3d from = vec("look_from"), at = vec("look_at");
+    if ((at - from).norm() < 1e-9) R.fail(where, "look_from and look_at coincide");
+    s.T_base_sensor_start = look_at(from, at, p["line"] ? vec("line") : Eigen::Vector3d::UnitX());
+  } else {
+    s.T_base_sensor_start = R.pose(p, where);
+  }
+  if (n["direction"]) {
+    const auto d = R.list(n["direction"], "sweep.direction");
+    if (d.size() != 3 || Eigen::Vector3d(d[0], d[1], d[2]).norm() < 1e-9)
+      R.fail("sweep.direction", "expected a non-zero [x, y, z] in the sensor frame");
+    s.direction = Eigen::Vector3d(d[0], d[1], d[2]).normalized();
+  }
+  s.length_mm = R.num(n, "length_mm", s.length_mm, "sweep");
+  s.speed_mm_s = R.num(n, "speed_mm_s", s.speed_mm_s, "sweep");
+  s.profile_rate_hz = R.num(n, "profile_rate_hz", s.profile_rate_hz, "sweep");
+  if (n["center"]) {  // the given pose is mid-sweep: step back half the sweep along its direction
+    Pose back = Pose::Identity();
+    back.translation() = -0.5 * s.length_mm * s.direction;
+    s.T_base_sensor_start = s.T_base_sensor_start * back;
+  }
+}
+
+void read_noise(const Reader& R, const YAML::Node& n, NoiseSettings& s) {
+  R.only(n, "noise", {"enabled", "depth_sigma_um", "x_jitter_um", "z_quantum_um", "speckle_sigma_um",
+                      "speckle_corr_um", "dropout_rate", "grazing_start_deg", "mixed_pixel_prob",
+                      "mixed_pixel_jump_mm", "outlier_rate", "outlier_max_mm", "bias_sigma_um"});
+  s.enabled = R.flag(n, "enabled", s.enabled, "noise");
+  for (auto [key, field] : std::initializer_list<std::pair<const char*, double*>>{
+           {"depth_sigma_um", &s.depth_sigma_um}, {"x_jitter_um", &s.x_jitter_um},
+           {"z_quantum_um", &s.z_quantum_um}, {"speckle_sigma_um", &s.speckle_sigma_um},
+           {"speckle_corr_um", &s.speckle_corr_um}, {"dropout_rate", &s.dropout_rate},
+           {"grazing_start_deg", &s.grazing_start_deg}, {"mixed_pixel_prob", &s.mixed_pixel_prob},
+           {"mixed_pixel_jump_mm", &s.mixed_pixel_jump_mm}, {"outlier_rate", &s.outlier_rate},
+           {"outlier_max_mm", &s.outlier_max_mm}, {"bias_sigma_um", &s.bias_sigma_um}})
+    *field = R.num(n, key, *field, "noise");
+}
+
+void read_motion(const Reader& R, const YAML::Node& n, MotionSettings& s) {
+  R.only(n, "motion", {"enabled", "offset_sigma_mm", "offset_sigma_deg", "jitter_sigma_mm",
+                       "jitter_sigma_deg", "jitter_corr_profiles", "calibration_error"});
+  s.enabled = R.flag(n, "enabled", s.enabled, "motion");
+  s.offset_sigma_mm = R.num(n, "offset_sigma_mm", s.offset_sigma_mm, "motion");
+  s.offset_sigma_deg = R.num(n, "offset_sigma_deg", s.offset_sigma_deg, "motion");
+  s.jitter_sigma_mm = R.num(n, "jitter_sigma_mm", s.jitter_sigma_mm, "motion");
+  s.jitter_sigma_deg = R.num(n, "jitter_sigma_deg", s.jitter_sigma_deg, "motion");
+  s.jitter_corr_profiles = R.num(n, "jitter_corr_profiles", s.jitter_corr_profiles, "motion");
+  if (n["calibration_error"]) {
+    const auto c = R.list(n["calibration_error"], "motion.calibration_error");
+    if (c.size() != 6) R.fail("motion.calibration_error", "expected [x, y, z (mm), rx, ry, rz (deg)]");
+    std::copy(c.begin(), c.end(), s.calibration_error.begin());
+  }
+}
+
+}  // namespace
+
+ScanScene load_scene(const std::string& path) {
+  namespace fs = std::filesystem;
+  if (!fs::exists(path)) throw Error(path, "no such file");
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw Error(path, std::string("not valid YAML: ") + e.what());
+  }
+  const Reader R{path};
+  if (!root || root.IsNull()) R.fail("scene", "file is empty");
+  R.only(root, "scene", {"seed", "objects", "sensor", "sweep", "noise", "motion"});
+  ScanScene sc;
+  sc.file = path;
+  if (root["seed"]) {
+    const double seed = R.num(root, "seed", 1, "scene");
+    if (seed < 0 || seed != std::floor(seed)) R.fail("seed", "must be a non-negative integer");
+    sc.seed = static_cast<uint64_t>(seed);
+  }
+  if (root["sensor"]) read_sensor(R, root["sensor"], sc.settings.sensor);
+  if (!root["sweep"]) R.fail("scene", "missing 'sweep'");
+  read_sweep(R, root["sweep"], sc.settings.sweep);
+  if (root["noise"]) read_noise(R, root["noise"], sc.settings.noise);
+  if (root["motion"]) read_motion(R, root["motion"], sc.settings.motion);
+
+  const YAML::Node objs = root["objects"];
+  if (!objs || !objs.IsSequence() || objs.size() == 0) R.fail("objects", "need a non-empty list");
+  std::map<std::string, TriMesh> cache;
+  for (size_t i = 0; i < objs.size(); ++i) {
+    const std::string where = "objects[" + std::to_string(i) + "]";
+    R.only(objs[i], where, {"name", "mesh", "pose", "shiny"});
+    SceneObject o;
+    o.name = objs[i]["name"] ? objs[i]["name"].as<std::string>() : "object" + std::to_string(i);
+    if (!objs[i]["mesh"]) R.fail(where, "missing 'mesh'");
+    o.mesh_path = objs[i]["mesh"].as<std::string>();
+    if (!objs[i]["pose"]) R.fail(where, "missing 'pose' (T_base_object)");
+    o.T_base_object = R.pose(objs[i]["pose"], where + ".pose");
+    o.shiny = R.flag(objs[i], "shiny", false, where);
+    const fs::path mesh = fs::path(path).parent_path() / o.mesh_path;
+    if (!fs::exists(mesh)) R.fail(where + ".mesh", "no such mesh file '" + mesh.string() + "'");
+    auto it = cache.find(mesh.string());
+    if (it == cache.end()) it = cache.emplace(mesh.string(), cad::import_cad(mesh.string()).mesh).first;
+    o.mesh = it->second;
+    sc.objects.push_back(std::move(o));
+  }
+  sc.settings.validate(path);
+  return sc;
+}
+
+}  // namespace laserfit::scan
