@@ -13,7 +13,7 @@ DEB_PACKAGES := cmake ninja-build ccache g++ pkg-config \
   libocct-foundation-dev libyaml-cpp-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev \
   nlohmann-json3-dev libcli11-dev
 
-.PHONY: all deps configure build test demo cad bench bench-cad clean format
+.PHONY: all deps configure build test demo cad bench bench-cad bench-scan clean format
 
 all: build
 
@@ -46,6 +46,8 @@ demo: build
 	$(BIN)/laserfit refcloud cad/usb_a_plug.ply -o out/demo/usb_plug_full.pcd --count 200000 --method uniform --seed 1
 	$(BIN)/laserfit refcloud cad/usb_a_plug.ply -o out/demo/usb_plug_front.pcd --count 100000 --view-dir 0,0,1 --seed 1
 	$(BIN)/laserfit refcloud cad/needle.ply -o out/demo/needle_eye.pcd --density 2000 --method poisson --view "0 0 85 0 1 0 0" --seed 1
+	$(BIN)/laserfit scan datasets/scenes/needle_thread.yaml -o out/demo/needle_thread_scan.pcd --gt out/demo/needle_thread_gt.json
+	$(BIN)/laserfit scan datasets/scenes/usb_socket.yaml -o out/demo/usb_socket_scan.pcd --gt out/demo/usb_socket_gt.json
 	@echo; echo "demo outputs in out/demo/:"; ls -l out/demo
 
 # Regenerate the committed parametric CAD in cad/ (deterministic: same bytes every time).
@@ -57,7 +59,12 @@ bench-cad: build
 	$(BIN)/bench_cad --benchmark_out=reports/cad/bench_cad.json --benchmark_out_format=json \
 	  --benchmark_counters_tabular=true | tee reports/cad/bench_cad.txt
 
-bench: bench-cad
+bench-scan: build
+	@mkdir -p reports/scan
+	$(BIN)/bench_scan --benchmark_out=reports/scan/bench_scan.json --benchmark_out_format=json \
+	  --benchmark_counters_tabular=true | tee reports/scan/bench_scan.txt
+
+bench: bench-cad bench-scan
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')

@@ -3,39 +3,17 @@
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
-#include <queue>
 
 #include "laserfit/cad/import.hpp"
 #include "laserfit/sampling/sampling.hpp"
+#include "bench_meshes.hpp"
 
 using namespace laserfit;
+using laserfit::bench::data;
+using laserfit::bench::mesh_100k;
 
 namespace {
-std::string data(const char* f) { return std::string(LASERFIT_TEST_DATA) + "/o2ac/" + f; }
 
-// The real gear-motor mesh (9 872 triangles) refined to exactly 100 000 triangles by splitting
-// the largest triangle at its centroid, so that sampling sees a real CAD area distribution.
-const TriMesh& mesh_100k() {
-  static const TriMesh m = [] {
-    TriMesh mesh = cad::import_cad(data("04_37D-GEARMOTOR-50-70.obj")).mesh;
-    std::priority_queue<std::pair<double, int>> heap;
-    for (int f = 0; f < int(mesh.faces.size()); ++f) heap.push({mesh.face_area(f), f});
-    while (mesh.faces.size() < 100000) {
-      const int f = heap.top().second;
-      heap.pop();
-      const Eigen::Vector3i t = mesh.faces[f];
-      const int c = int(mesh.vertices.size());
-      mesh.vertices.push_back((mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3);
-      mesh.faces[f] = {t[0], t[1], c};
-      mesh.faces.push_back({t[1], t[2], c});
-      mesh.faces.push_back({t[2], t[0], c});
-      for (int g : {f, int(mesh.faces.size()) - 2, int(mesh.faces.size()) - 1})
-        heap.push({mesh.face_area(g), g});
-    }
-    return mesh;
-  }();
-  return m;
-}
 
 void BM_Import(benchmark::State& st, const char* file) {
   size_t tris = 0;

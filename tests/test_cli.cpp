@@ -32,7 +32,7 @@ const std::string kPlug = std::string(LASERFIT_SOURCE_DIR) + "/cad/usb_a_plug.pl
 TEST(Cli, HelpForEverySubcommand) {
   test::TempDir dir;
   EXPECT_EQ(run("--help", dir).code, 0);
-  for (const char* sub : {"import", "refcloud", "cad"}) {
+  for (const char* sub : {"import", "refcloud", "cad", "scan"}) {
     const auto r = run(std::string(sub) + " --help", dir);
     EXPECT_EQ(r.code, 0) << sub;
     EXPECT_NE(r.out.find("--json"), std::string::npos) << sub;
@@ -65,6 +65,29 @@ TEST(Cli, RefcloudIsSeededAndRecordsItsProvenance) {
   EXPECT_TRUE(meta.count("view0.T_mesh_sensor"));
 }
 
+TEST(Cli, ScanWritesCloudGroundTruthAndRawProfiles) {
+  test::TempDir dir;
+  const std::string scene = std::string(LASERFIT_SOURCE_DIR) + "/datasets/scenes/needle_thread.yaml";
+  const std::string args = "scan " + scene + " --seed 3 --json --gt " + (dir / "gt.json") +
+                           " --raw " + (dir / "raw.pcd") + " -o ";
+  const auto r = run(args + (dir / "a.pcd"), dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(io::Json::parse(r.out)["width"], 2048);
+  ASSERT_EQ(run(args + (dir / "b.pcd"), dir).code, 0);
+  EXPECT_TRUE(test::read_bytes(dir / "a.pcd") == test::read_bytes(dir / "b.pcd"));
+  const auto gt = io::Json::parse(test::read_bytes(dir / "gt.json"));
+  EXPECT_EQ(gt["seed"], 3);
+  EXPECT_EQ(gt["objects"].size(), 2u);
+  EXPECT_EQ(gt["T_base_sensor_true"].size(), gt["height"].get<size_t>());
+  const PointCloud raw = io::read_cloud(dir / "raw.pcd");
+  EXPECT_EQ(raw.width, 2048);
+  for (const auto& p : raw.points) {
+    if (p.allFinite()) {
+      ASSERT_EQ(p.y(), 0.f) << "raw profiles are (x, z) in the laser plane";
+    }
+  }
+}
+
 TEST(Cli, BadInputOneLineNonZeroNoOutput) {
   test::TempDir dir;
   test::write_text(dir / "trunc.stl", test::read_bytes(kPanel).substr(0, 700));
@@ -84,6 +107,9 @@ TEST(Cli, BadInputOneLineNonZeroNoOutput) {
       {"refcloud " + kPlug + " -n 100 --method best -o " + cloud, cloud},
       {"cad teapot -o " + (dir / "cad"), dir / "cad/teapot.yaml"},
       {"cad needle --set eye_width=9 -o " + (dir / "cad"), dir / "cad/needle.ply"},
+      {"scan " + (dir / "missing.yaml") + " -o " + cloud, cloud},
+      {"scan " + kPanel + " -o " + cloud, cloud},  // not a scene file
+      {"scan " + std::string(LASERFIT_SOURCE_DIR) + "/datasets/scenes/needle_thread.yaml --noise maybe -o " + cloud, cloud},
   };
   for (const auto& [args, output] : cases) {
     SCOPED_TRACE(args);

@@ -11,9 +11,8 @@ constexpr double kUm = 1e-3;  // micrometres -> mm
 
 // Moves a sample by `d` mm along its own laser ray (triangulation errors lie along the ray).
 void along_ray(Sample& s, double d) {
-  const double r = std::hypot(s.x, s.z);
-  s.x += d * s.x / r;
-  s.z += d * s.z / r;
+  s.x += d * s.ux;
+  s.z += d * s.uz;
 }
 
 }  // namespace
@@ -33,15 +32,19 @@ void apply_noise(std::vector<Sample>& p, const NoiseSettings& n, const sensor::L
       ++stats.mixed_pixels;
       ++j;  // do not chain through the sample just moved
     }
-  // Speckle: AR(1) along the profile with the configured correlation length.
+  // Speckle: AR(1) along the profile with the configured correlation length. Drawn only where
+  // there is a measurement; across a gap of k columns the exact AR(1) step is rho^k.
+  NormalSource normal(rng);
   const double rho = n.speckle_corr_um > 0 ? std::exp(-g.pitch_mid_mm() / (n.speckle_corr_um * kUm)) : 0.0;
-  double speckle = gauss(rng) * n.speckle_sigma_um * kUm;
+  const double s_sp = n.speckle_sigma_um * kUm;
+  double speckle = 0.0, decay = 0.0;  // decay = rho^(columns since the last draw); 0: fresh start
   const double cos_graze = std::cos(n.grazing_start_deg * M_PI / 180.0);
   const double cos_max = std::cos(g.max_incidence_deg * M_PI / 180.0);
-  for (size_t j = 0; j < m; ++j) {
-    speckle = rho * speckle + std::sqrt(1 - rho * rho) * gauss(rng) * n.speckle_sigma_um * kUm;
+  for (size_t j = 0; j < m; ++j, decay *= rho) {
     Sample& s = p[j];
     if (!s.valid) continue;
+    speckle = decay * speckle + std::sqrt(1 - decay * decay) * normal() * s_sp;
+    decay = 1.0;
     // Dropouts: a base rate plus a ramp to certainty between grazing_start and max incidence.
     double p_drop = n.dropout_rate;
     if (s.cos_incidence < cos_graze) p_drop += (cos_graze - s.cos_incidence) / (cos_graze - cos_max);
@@ -51,8 +54,8 @@ void apply_noise(std::vector<Sample>& p, const NoiseSettings& n, const sensor::L
       continue;
     }
     const double sigma = n.depth_sigma_um * kUm / std::max(s.cos_incidence, 0.05);
-    along_ray(s, gauss(rng) * sigma + speckle);
-    s.x += gauss(rng) * n.x_jitter_um * kUm;
+    along_ray(s, normal() * sigma + speckle);
+    s.x += normal() * n.x_jitter_um * kUm;
     if (s.shiny && uniform01(rng) < n.outlier_rate) {
       along_ray(s, (2 * uniform01(rng) - 1) * n.outlier_max_mm);
       ++stats.outliers;

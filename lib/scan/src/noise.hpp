@@ -11,6 +11,7 @@ namespace laserfit::scan {
 struct Sample {
   bool valid = false;
   double x = 0, z = 0;     // mm, sensor frame (laser plane y = 0)
+  double ux = 0, uz = 1;   // unit direction of the laser ray (sensor frame)
   double cos_incidence = 1;
   bool shiny = false;
 };

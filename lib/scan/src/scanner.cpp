@@ -127,8 +127,9 @@ ScanResult simulate_scan(const ScanScene& sc) {
       const double cos_inc = -h.normal.dot(dirs[j]);
       if (cos_inc < view.cos_max_incidence()) { ++n_graze; continue; }
       const Eigen::Vector3f p = origin + h.t * dirs[j];
-      if (!view.camera_angle_ok(p, h.normal)) { ++n_cam; continue; }
-      prof[j] = {true, h.t * ray_dir[j].x(), z, cos_inc, sc.objects[h.geom].shiny};
+      if (!view.camera_angle_ok(p, h.normal, camera)) { ++n_cam; continue; }
+      prof[j] = {true, h.t * ray_dir[j].x(), z, ray_dir[j].x(), ray_dir[j].z(), cos_inc,
+                 sc.objects[h.geom].shiny};
       label[j] = h.geom;
       from[j] = p + sensor::kSelfShadowEps_mm * h.normal;
       to[j] = camera;

@@ -58,11 +58,6 @@ Eigen::Vector3f LineScannerView::camera_in_scene(double y) const {
   return (T_scene_sensor_ * Eigen::Vector3d(0, y + baseline_, 0)).cast<float>();
 }
 
-bool LineScannerView::camera_angle_ok(const Eigen::Vector3f& p, const Eigen::Vector3f& n,
-                                      double y) const {
-  return n.dot((camera_in_scene(y) - p).normalized()) >= cos_max_camera_;
-}
-
 Visibility LineScannerView::visibility(const raycast::Scene& scene, const Eigen::Vector3f& p,
                                        const Eigen::Vector3f& n) const {
   const Eigen::Vector3d ps = T_sensor_scene_ * p.cast<double>();
@@ -72,7 +67,7 @@ Visibility LineScannerView::visibility(const raycast::Scene& scene, const Eigen:
   const Eigen::Vector3f emitter = (T_scene_sensor_ * Eigen::Vector3d(0, y, 0)).cast<float>();
   const Eigen::Vector3f camera = camera_in_scene(y);
   if (n.dot((emitter - p).normalized()) < cos_max_incidence_) return Visibility::Grazing;
-  if (!camera_angle_ok(p, n, y)) return Visibility::CameraShadow;
+  if (!camera_angle_ok(p, n, camera)) return Visibility::CameraShadow;
   const float eps = kSelfShadowEps_mm;
   if (!scene.segment_clear(p + eps * n, emitter, eps)) return Visibility::LaserShadow;
   if (!scene.segment_clear(p + eps * n, camera, eps)) return Visibility::CameraShadow;

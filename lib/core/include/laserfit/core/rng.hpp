@@ -31,4 +31,32 @@ inline double gauss(std::mt19937_64& g) {
   return std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
 }
 
+// Standard normals in pairs by Marsaglia's polar method (one log, no trigonometry: the scanner
+// draws millions per scan). Same determinism as gauss(): only the generator's state matters.
+class NormalSource {
+ public:
+  explicit NormalSource(std::mt19937_64& g) : g_(g) {}
+  double operator()() {
+    if (has_spare_) {
+      has_spare_ = false;
+      return spare_;
+    }
+    double u, v, s;
+    do {
+      u = 2.0 * uniform01(g_) - 1.0;
+      v = 2.0 * uniform01(g_) - 1.0;
+      s = u * u + v * v;
+    } while (s >= 1.0 || s == 0.0);
+    const double f = std::sqrt(-2.0 * std::log(s) / s);
+    spare_ = v * f;
+    has_spare_ = true;
+    return u * f;
+  }
+
+ private:
+  std::mt19937_64& g_;
+  double spare_ = 0;
+  bool has_spare_ = false;
+};
+
 }  // namespace laserfit

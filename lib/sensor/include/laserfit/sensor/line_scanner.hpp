@@ -50,7 +50,10 @@ class LineScannerView {
   const Pose& T_scene_sensor() const { return T_scene_sensor_; }
   // Camera half of the rule, for a point the laser already reaches (the scanner's laser ray hit
   // it first): camera angle and camera occlusion. `y` is the sweep offset of the laser plane.
-  bool camera_angle_ok(const Eigen::Vector3f& p, const Eigen::Vector3f& n, double y = 0) const;
+  bool camera_angle_ok(const Eigen::Vector3f& p, const Eigen::Vector3f& n,
+                       const Eigen::Vector3f& camera) const {
+    return n.dot((camera - p).normalized()) >= cos_max_camera_;
+  }
   Eigen::Vector3f camera_in_scene(double y = 0) const;
   float cos_max_incidence() const { return cos_max_incidence_; }
 
