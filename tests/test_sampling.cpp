@@ -1,7 +1,6 @@
 // Reference-cloud sampling: on the surface, uniform by area, exact counts, Poisson-disk spacing,
 // seeded and thread-count independent; view-dependent clouds follow the scanner's visibility.
 #include <gtest/gtest.h>
-#include <tbb/global_control.h>
 
 #include <cmath>
 
@@ -67,15 +66,8 @@ TEST(Uniform, DensityGivesPointsPerSquareMillimetre) {
 }
 
 TEST(Uniform, SameSeedSameBytesWhateverTheThreadCount) {
-  PointCloud one, two;
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-    one = sampling::sample_uniform(kBox, count(50000, Method::Uniform, 42));
-  }
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
-    two = sampling::sample_uniform(kBox, count(50000, Method::Uniform, 42));
-  }
+  auto run = [] { return sampling::sample_uniform(kBox, count(50000, Method::Uniform, 42)); };
+  const PointCloud one = test::with_threads(1, run), two = test::with_threads(2, run);
   EXPECT_EQ(one.points, two.points);
   EXPECT_EQ(one.metadata.at("seed"), "42");
   EXPECT_NE(sampling::sample_uniform(kBox, count(50000, Method::Uniform, 43)).points, one.points);
@@ -95,15 +87,8 @@ TEST(PoissonDisk, ExactCountAndEvenSpacing) {
 }
 
 TEST(PoissonDisk, ThreadCountIndependent) {
-  PointCloud one, two;
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-    one = sampling::sample_poisson_disk(kBox, count(3000, Method::PoissonDisk, 5));
-  }
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
-    two = sampling::sample_poisson_disk(kBox, count(3000, Method::PoissonDisk, 5));
-  }
+  auto run = [] { return sampling::sample_poisson_disk(kBox, count(3000, Method::PoissonDisk, 5)); };
+  const PointCloud one = test::with_threads(1, run), two = test::with_threads(2, run);
   EXPECT_EQ(one.points, two.points);
 }
 
@@ -168,14 +153,7 @@ TEST(Visible, ViewsAreMergedAndImpossibleViewsRejected) {
 
 TEST(Visible, ThreadCountIndependent) {
   const TriMesh cube = test::box_mesh({-5, -5, -5}, {5, 5, 5});
-  PointCloud one, two;
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-    one = sampling::sample_visible(cube, from_above(cube), count(5000, Method::PoissonDisk, 9));
-  }
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
-    two = sampling::sample_visible(cube, from_above(cube), count(5000, Method::PoissonDisk, 9));
-  }
+  auto run = [&] { return sampling::sample_visible(cube, from_above(cube), count(5000, Method::PoissonDisk, 9)); };
+  const PointCloud one = test::with_threads(1, run), two = test::with_threads(2, run);
   EXPECT_EQ(one.points, two.points);
 }

@@ -1,7 +1,6 @@
 // Laser line-scanner simulator: geometry exact without noise, noise statistics as configured,
 // step heights, shadows where the geometry puts them, determinism, ground truth, bad scenes.
 #include <gtest/gtest.h>
-#include <tbb/global_control.h>
 
 #include <Eigen/Dense>
 #include <cmath>
@@ -133,14 +132,8 @@ TEST(Scan, CameraShadowFallsOnTheSideAwayFromTheCamera) {
 TEST(Scan, SameSeedSameBytesWhateverTheThreadCount) {
   test::TempDir dir;
   const auto sc = step_scene(2.0, true);
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-    io::write_cloud(dir / "one.pcd", scan::simulate_scan(sc).cloud);
-  }
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
-    io::write_cloud(dir / "two.pcd", scan::simulate_scan(sc).cloud);
-  }
+  io::write_cloud(dir / "one.pcd", test::with_threads(1, [&] { return scan::simulate_scan(sc).cloud; }));
+  io::write_cloud(dir / "two.pcd", test::with_threads(2, [&] { return scan::simulate_scan(sc).cloud; }));
   auto other = sc;
   other.seed = 2;
   io::write_cloud(dir / "three.pcd", scan::simulate_scan(other).cloud);

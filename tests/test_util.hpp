@@ -6,6 +6,8 @@
 #include <sstream>
 #include <string>
 
+#include <tbb/global_control.h>
+
 #include "laserfit/core/mesh.hpp"
 
 namespace laserfit::test {
@@ -35,6 +37,13 @@ inline std::string read_bytes(const std::string& path) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+// Runs f() with TBB limited to n threads (determinism tests compare 1 against 2 threads).
+template <typename F>
+auto with_threads(int n, F&& f) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, n);
+  return f();
 }
 
 // Axis-aligned box [lo, hi] as 12 outward triangles sharing 8 vertices.
