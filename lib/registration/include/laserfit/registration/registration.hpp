@@ -1,0 +1,97 @@
+#pragma once
+// Registration of a scan against a CAD reference cloud: the paper's Algorithm 1 (filter ->
+// FPFH + RANSAC -> orientation gate -> ICP, repeated until the ICP fitness is below rho_ICP) and
+// refinement variants, with a trust decision (ok / ambiguous / failed) and a covariance.
+// All lengths in mm; T_scan_ref maps reference coordinates into the scan frame.
+#include <Eigen/Core>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "laserfit/core/cloud.hpp"
+#include "laserfit/core/pose.hpp"
+
+namespace laserfit::registration {
+
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+
+struct PreprocessSettings {
+  double voxel_mm = 0.0;          // voxel grid leaf; 0 = auto (reference bbox diagonal / 150)
+  int outlier_neighbours = 20;    // statistical outlier removal: k neighbours ...
+  double outlier_std = 2.0;       // ... and the std-dev multiplier (0 disables the filter)
+  double normal_radius_vox = 3.0; // normal estimation radius, in voxels
+  Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  // normals are flipped towards it (mm)
+  bool use_viewpoint = false;     // scan clouds: towards the sensor; references keep their own
+};
+
+struct CoarseSettings {
+  double voxel_factor = 3.0;         // features and RANSAC run on a grid this much coarser
+  double feature_radius_vox = 6.0;   // FPFH radius, in voxels
+  int ransac_iterations = 10000;     // SampleConsensusPrerejective iterations per attempt
+  int samples = 3;                   // correspondences per hypothesis
+  int correspondence_randomness = 5; // k nearest features to pick from
+  double similarity = 0.85;          // edge-length similarity for pre-rejection (0..1)
+  double inlier_fraction = 0.25;     // of the (segmented) scan, for a hypothesis to be accepted
+  double max_correspondence_vox = 2.5;
+};
+
+struct RefineSettings {
+  std::string method = "ceres";           // see refiner_names(); "paper": PCL point-to-point ICP
+  double max_correspondence_vox = 2.0;    // ICP correspondence gate, in voxels
+  int max_iterations = 150;               // per scale (ceres) / in total (PCL variants)
+  double convergence_mm = 1e-5;           // stop when the update moves points less than this
+  std::string robust_loss = "huber";      // ceres: huber | cauchy | tukey | none
+  double robust_scale_vox = 0.5;          // ceres: robust loss scale, in voxels
+};
+
+struct TrustSettings {
+  double max_rmse_vox = 0.5;        // inlier RMSE above this (in voxels) -> failed
+  double min_overlap = 0.3;         // fraction of the reference explained -> else failed
+  double ambiguity_ratio = 1e-3;    // Hessian eigenvalue ratio (scaled) below -> ambiguous
+  double restart_agreement_mm = 0.05;   // restarts with equal fitness must agree this well
+  double restart_agreement_deg = 1.0;
+};
+
+struct RegistrationSettings {
+  PreprocessSettings pre;
+  CoarseSettings coarse;
+  RefineSettings refine;
+  TrustSettings trust;
+  // Algorithm 1 of the paper.
+  double rho_icp_vox2 = 0.05;       // stop when ICP fitness (mean squared distance) < rho * voxel^2
+  double rho_rot_deg = 30.0;        // reject RANSAC poses farther than this from q0
+  std::optional<Eigen::Quaterniond> q0;  // prior orientation of the reference in the scan frame
+  std::optional<Pose> prior;        // full prior pose: skips RANSAC when given with skip_coarse
+  bool skip_coarse = false;
+  int max_attempts = 8;             // RANSAC + ICP rounds before giving up
+  uint64_t seed = 1;
+};
+
+enum class Status { Ok, Ambiguous, Failed };
+const char* status_name(Status s);
+
+struct RegistrationResult {
+  Pose T_scan_ref = Pose::Identity();
+  Status status = Status::Failed;
+  std::string reason;               // why ambiguous / failed
+  double fitness_mm2 = 0;           // PCL-style ICP fitness: mean squared NN distance (inliers)
+  double inlier_rmse_mm = 0;
+  double overlap = 0;               // fraction of reference points with a scan point within gate
+  int attempts = 0, iterations = 0;
+  Matrix6d covariance = Matrix6d::Zero();  // [rx ry rz (rad), tx ty tz (mm)], scan frame
+  Vector6d hessian_eigenvalues = Vector6d::Zero();  // scaled, ascending
+  Vector6d weakest_direction = Vector6d::Zero();
+  double voxel_mm = 0;
+  std::map<std::string, double> timings_s;  // per stage
+};
+
+// Registers `scan` (organized or not, NaN allowed) against `ref` (with normals).
+// Throws laserfit::Error on unusable input (empty or all-NaN clouds, nonsense settings).
+RegistrationResult register_cloud(const PointCloud& scan, const PointCloud& ref,
+                                  const RegistrationSettings& settings);
+
+std::vector<std::string> refiner_names();
+
+}  // namespace laserfit::registration

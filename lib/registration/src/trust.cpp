@@ -1,0 +1,100 @@
+// Fit statistics and the trust decision: low overlap or high RMSE -> failed; a (near) singular
+// point-to-plane Hessian -> ambiguous along its weakest direction (e.g. rotation about a round
+// peg's axis) instead of an arbitrary angle; otherwise ok, with covariance sigma^2 H^-1.
+#include <Eigen/Eigenvalues>
+#include <sstream>
+
+#include "stages.hpp"
+
+namespace laserfit::registration {
+
+Fit evaluate(const PclCloud& scan, const Tree& ref_tree, const Pose& T, double gate) {
+  Fit f;
+  const Pose to_ref = T.inverse();
+  std::vector<int> idx(1);
+  std::vector<float> d2(1);
+  double sum = 0;
+  for (const auto& pt : scan) {
+    const Eigen::Vector3d p = to_ref * pt.getVector3fMap().cast<double>();
+    PointT q;
+    q.getVector3fMap() = p.cast<float>();
+    if (ref_tree.nearestKSearch(q, 1, idx, d2) < 1 || d2[0] > gate * gate) continue;
+    const auto& m = ref_tree.getInputCloud()->at(idx[0]);
+    sum += std::pow(m.getNormalVector3fMap().cast<double>().dot(p - m.getVector3fMap().cast<double>()), 2);
+    ++f.inliers;
+  }
+  f.overlap = scan.empty() ? 0 : double(f.inliers) / scan.size();
+  f.fitness_mm2 = f.inliers ? sum / f.inliers : std::numeric_limits<double>::infinity();
+  f.rmse_mm = std::sqrt(f.fitness_mm2);
+  return f;
+}
+
+void assess(const PclCloud& scan, const Tree& ref_tree, double gate, const TrustSettings& t,
+            double voxel, RegistrationResult& r) {
+  const Fit f = evaluate(scan, ref_tree, r.T_scan_ref, gate);
+  r.fitness_mm2 = f.fitness_mm2, r.inlier_rmse_mm = f.rmse_mm, r.overlap = f.overlap;
+  // Point-to-plane Hessian over the matched scan points, with the reference's (CAD) normals,
+  // about the matched points' centroid (so rotation and translation decouple); rotations scaled
+  // by the RMS radius L to make the six directions comparable. All in the scan frame.
+  const Pose to_ref = r.T_scan_ref.inverse();
+  const Eigen::Matrix3d R = r.T_scan_ref.rotation();
+  std::vector<Eigen::Vector3d> P, N;
+  double res2 = 0;
+  std::vector<int> idx(1);
+  std::vector<float> d2(1);
+  for (const auto& pt : scan) {
+    const Eigen::Vector3d p = pt.getVector3fMap().cast<double>();
+    PointT q;
+    q.getVector3fMap() = (to_ref * p).cast<float>();
+    if (ref_tree.nearestKSearch(q, 1, idx, d2) < 1 || d2[0] > gate * gate) continue;
+    const auto& m = ref_tree.getInputCloud()->at(idx[0]);
+    const Eigen::Vector3d n = R * m.getNormalVector3fMap().cast<double>();
+    res2 += std::pow(n.dot(p - r.T_scan_ref * m.getVector3fMap().cast<double>()), 2);
+    P.push_back(p), N.push_back(n);
+  }
+  const size_t n = P.size();
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& p : P) c += p;
+  c /= std::max<size_t>(n, 1);
+  double L2 = 0;
+  for (const auto& p : P) L2 += (p - c).squaredNorm();
+  const double L = std::max(std::sqrt(L2 / std::max<size_t>(n, 1)), 1e-9);
+  Matrix6d H = Matrix6d::Zero();
+  for (size_t i = 0; i < n; ++i) {
+    Vector6d J;
+    J << (P[i] - c).cross(N[i]) / L, N[i];
+    H += J * J.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Matrix6d> es(H);
+  r.hessian_eigenvalues = es.eigenvalues() / std::max(1.0, double(n));
+  r.weakest_direction = es.eigenvectors().col(0);
+  const double sigma2 = n > 6 ? res2 / (n - 6) : 0.0;
+  // Covariance in [rx ry rz (rad, about the reference centroid), tx ty tz (mm)]: undo the scaling.
+  Vector6d inv = es.eigenvalues();
+  for (int k = 0; k < 6; ++k) inv[k] = inv[k] > 1e-12 * es.eigenvalues()[5] ? 1.0 / inv[k] : 0.0;
+  Matrix6d cov = sigma2 * es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
+  Vector6d s;
+  s << 1 / L, 1 / L, 1 / L, 1, 1, 1;
+  r.covariance = s.asDiagonal() * cov * s.asDiagonal();
+
+  std::ostringstream why;
+  if (f.overlap < t.min_overlap) {
+    r.status = Status::Failed;
+    why << "overlap " << f.overlap << " below " << t.min_overlap;
+  } else if (f.rmse_mm > t.max_rmse_vox * voxel) {
+    r.status = Status::Failed;
+    why << "inlier RMSE " << f.rmse_mm * 1e3 << " um above " << t.max_rmse_vox * voxel * 1e3 << " um";
+  } else if (es.eigenvalues()[0] < t.ambiguity_ratio * es.eigenvalues()[5]) {
+    r.status = Status::Ambiguous;
+    const Vector6d& d = r.weakest_direction;
+    const bool rot = d.head<3>().norm() > d.tail<3>().norm();
+    const Eigen::Vector3d axis = (rot ? d.head<3>() : d.tail<3>()).normalized();
+    why << "unobservable " << (rot ? "rotation about" : "translation along") << " [" << axis.x()
+        << ", " << axis.y() << ", " << axis.z() << "] (scan frame)";
+  } else {
+    r.status = Status::Ok;
+  }
+  r.reason = why.str();
+}
+
+}  // namespace laserfit::registration
