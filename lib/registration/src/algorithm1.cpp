@@ -3,6 +3,7 @@
 // refine with ICP; keep the best fitness; repeat until the fitness is below rho_ICP or the
 // attempt budget runs out. Added for automatic failure detection (the paper's future work): a
 // second attempt must agree with the best one, and the final pose is assessed (trust.cpp).
+#include <Eigen/Eigenvalues>
 #include <chrono>
 
 #include "laserfit/core/error.hpp"
@@ -84,7 +85,8 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
     ++r.attempts;
     Pose T0 = s.prior.value_or(Pose::Identity());
     t = Clock::now();
-    if (coarse && !coarse_align(ref_c, ref_f, scan_c, scan_f, s.coarse, cvox, s.seed + 7919u * a, T0)) {
+    if (coarse && (!coarse_align(ref_c, ref_f, scan_c, scan_f, s.coarse, cvox, s.seed + 7919u * a, T0) ||
+                   !T0.matrix().allFinite())) {
       t_ransac += since(t);
       continue;
     }
@@ -92,9 +94,18 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
     if (s.q0 && rotation_angle(Eigen::Quaterniond(T0.rotation()), *s.q0) * 180 / M_PI > s.rho_rot_deg)
       continue;  // Algorithm 1, line 5: unrealistic orientation
     t = Clock::now();
-    const RefineOutput out = refine({ref, scan, tree, ref_tree, T0, voxel, s.refine});
+    // PCL's least-squares ICP variants divide by a singular matrix when the data cannot fix all
+    // six directions (a cylinder seen from the side) and then abort inside PCL on NaN poses; the
+    // damped Ceres solve handles it, so degenerate data goes there.
+    RefineFn use = refine;
+    if (refine != refine_ceres) {
+      const Eigen::SelfAdjointEigenSolver<Matrix6d> es(plane_system(*scan, *ref_tree, T0, gate).H);
+      if (es.eigenvalues()[0] < 1e-6 * es.eigenvalues()[5]) use = refine_ceres;
+    }
+    const RefineOutput out = use({ref, scan, tree, ref_tree, T0, voxel, s.refine});
     t_icp += since(t);
     r.iterations += out.iterations;
+    if (!out.T.matrix().allFinite()) continue;  // a degenerate solve (e.g. planar data): no pose
     const Candidate c{out.T, evaluate(*scan, *ref_tree, out.T, gate)};
     if (c.fit.fitness_mm2 < best.fit.fitness_mm2) best = c;
     if (c.fit.fitness_mm2 < rho_icp) good.push_back(c);

@@ -61,10 +61,6 @@ RefineOutput refine_ceres(const RefineInput& in) {
         query.getVector3fMap() = (to_ref * q).cast<float>();
         if (in.ref_tree->nearestKSearch(query, 1, idx, d2) < 1 || d2[0] > gate * gate) continue;
         const auto& m = (*in.ref)[idx[0]];
-        // Near an edge the nearest model sample may lie on the neighbouring face: skip pairs
-        // whose normals disagree (scan normals face the sensor, model normals face outwards).
-        const Eigen::Vector3d nm = R * m.getNormalVector3fMap().cast<double>();
-        if (nm.dot(pt.getNormalVector3fMap().cast<double>()) < 0.7) continue;
         problem.AddResidualBlock(new PointToPlane(out.T * m.getVector3fMap().cast<double>(), q,
                                                   R * m.getNormalVector3fMap().cast<double>()),
                                  loss.get(), delta);

@@ -48,6 +48,13 @@ struct Fit {
   size_t inliers = 0;
 };
 Fit evaluate(const PclCloud& scan, const Tree& ref_tree, const Pose& T_scan_ref, double gate_mm);
+// The point-to-plane normal equations at pose T (scaled Hessian H, residual sum, RMS radius L).
+struct PlaneSystem {
+  Matrix6d H = Matrix6d::Zero();
+  double residual2 = 0, L = 1;
+  size_t n = 0;
+};
+PlaneSystem plane_system(const PclCloud& scan, const Tree& ref_tree, const Pose& T, double gate_mm);
 void assess(const PclCloud& scan, const Tree& ref_tree, double gate_mm, const TrustSettings& t,
             double voxel, RegistrationResult& r);
 

@@ -10,6 +10,8 @@ namespace laserfit::registration {
 
 Fit evaluate(const PclCloud& scan, const Tree& ref_tree, const Pose& T, double gate) {
   Fit f;
+  f.fitness_mm2 = f.rmse_mm = std::numeric_limits<double>::infinity();
+  if (!T.matrix().allFinite()) return f;
   const Pose to_ref = T.inverse();
   std::vector<int> idx(1);
   std::vector<float> d2(1);
@@ -29,17 +31,14 @@ Fit evaluate(const PclCloud& scan, const Tree& ref_tree, const Pose& T, double g
   return f;
 }
 
-void assess(const PclCloud& scan, const Tree& ref_tree, double gate, const TrustSettings& t,
-            double voxel, RegistrationResult& r) {
-  const Fit f = evaluate(scan, ref_tree, r.T_scan_ref, gate);
-  r.fitness_mm2 = f.fitness_mm2, r.inlier_rmse_mm = f.rmse_mm, r.overlap = f.overlap;
+PlaneSystem plane_system(const PclCloud& scan, const Tree& ref_tree, const Pose& T, double gate) {
   // Point-to-plane Hessian over the matched scan points, with the reference's (CAD) normals,
   // about the matched points' centroid (so rotation and translation decouple); rotations scaled
   // by the RMS radius L to make the six directions comparable. All in the scan frame.
-  const Pose to_ref = r.T_scan_ref.inverse();
-  const Eigen::Matrix3d R = r.T_scan_ref.rotation();
+  PlaneSystem sys;
+  const Pose to_ref = T.inverse();
+  const Eigen::Matrix3d R = T.rotation();
   std::vector<Eigen::Vector3d> P, N;
-  double res2 = 0;
   std::vector<int> idx(1);
   std::vector<float> d2(1);
   for (const auto& pt : scan) {
@@ -49,22 +48,32 @@ void assess(const PclCloud& scan, const Tree& ref_tree, double gate, const Trust
     if (ref_tree.nearestKSearch(q, 1, idx, d2) < 1 || d2[0] > gate * gate) continue;
     const auto& m = ref_tree.getInputCloud()->at(idx[0]);
     const Eigen::Vector3d n = R * m.getNormalVector3fMap().cast<double>();
-    res2 += std::pow(n.dot(p - r.T_scan_ref * m.getVector3fMap().cast<double>()), 2);
+    sys.residual2 += std::pow(n.dot(p - T * m.getVector3fMap().cast<double>()), 2);
     P.push_back(p), N.push_back(n);
   }
-  const size_t n = P.size();
+  sys.n = P.size();
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
   for (const auto& p : P) c += p;
-  c /= std::max<size_t>(n, 1);
+  c /= std::max<size_t>(sys.n, 1);
   double L2 = 0;
   for (const auto& p : P) L2 += (p - c).squaredNorm();
-  const double L = std::max(std::sqrt(L2 / std::max<size_t>(n, 1)), 1e-9);
-  Matrix6d H = Matrix6d::Zero();
-  for (size_t i = 0; i < n; ++i) {
+  sys.L = std::max(std::sqrt(L2 / std::max<size_t>(sys.n, 1)), 1e-9);
+  for (size_t i = 0; i < sys.n; ++i) {
     Vector6d J;
-    J << (P[i] - c).cross(N[i]) / L, N[i];
-    H += J * J.transpose();
+    J << (P[i] - c).cross(N[i]) / sys.L, N[i];
+    sys.H += J * J.transpose();
   }
+  return sys;
+}
+
+void assess(const PclCloud& scan, const Tree& ref_tree, double gate, const TrustSettings& t,
+            double voxel, RegistrationResult& r) {
+  const Fit f = evaluate(scan, ref_tree, r.T_scan_ref, gate);
+  r.fitness_mm2 = f.fitness_mm2, r.inlier_rmse_mm = f.rmse_mm, r.overlap = f.overlap;
+  const PlaneSystem sys = plane_system(scan, ref_tree, r.T_scan_ref, gate);
+  const Matrix6d& H = sys.H;
+  const size_t n = sys.n;
+  const double res2 = sys.residual2, L = sys.L;
   Eigen::SelfAdjointEigenSolver<Matrix6d> es(H);
   r.hessian_eigenvalues = es.eigenvalues() / std::max(1.0, double(n));
   r.weakest_direction = es.eigenvectors().col(0);
@@ -89,8 +98,11 @@ void assess(const PclCloud& scan, const Tree& ref_tree, double gate, const Trust
     const Vector6d& d = r.weakest_direction;
     const bool rot = d.head<3>().norm() > d.tail<3>().norm();
     const Eigen::Vector3d axis = (rot ? d.head<3>() : d.tail<3>()).normalized();
+    int weak = 0;
+    for (int k = 0; k < 6; ++k) weak += es.eigenvalues()[k] < t.ambiguity_ratio * es.eigenvalues()[5];
     why << "unobservable " << (rot ? "rotation about" : "translation along") << " [" << axis.x()
         << ", " << axis.y() << ", " << axis.z() << "] (scan frame)";
+    if (weak > 1) why << " and " << weak - 1 << " more direction(s)";
   } else {
     r.status = Status::Ok;
   }
