@@ -19,6 +19,7 @@ Command add_import(CLI::App& root);
 Command add_refcloud(CLI::App& root);
 Command add_cad(CLI::App& root);
 Command add_scan(CLI::App& root);
+Command add_register(CLI::App& root);
 
 // --json: the machine-readable result on stdout (and nothing else there); otherwise human text.
 inline void emit(bool json, const io::Json& j, const std::string& human) {

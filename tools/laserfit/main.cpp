@@ -14,7 +14,8 @@ int main(int argc, char** argv) {
   std::vector<laserfit::cli::Command> commands = {laserfit::cli::add_import(app),
                                                   laserfit::cli::add_refcloud(app),
                                                   laserfit::cli::add_cad(app),
-                                                  laserfit::cli::add_scan(app)};
+                                                  laserfit::cli::add_scan(app),
+                                                  laserfit::cli::add_register(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
