@@ -11,6 +11,7 @@
 
 #include "laserfit/cad/import.hpp"
 #include "laserfit/core/error.hpp"
+#include "laserfit/io/util.hpp"
 
 namespace laserfit::cad {
 namespace {
@@ -104,11 +105,10 @@ RawMesh read_with_assimp(const std::string& path, const std::string& part) {
     throw Error(path, "no part named '" + part + "' (parts: " + (list.empty() ? "none" : list) + ")");
   }
 
-  std::string ext = path.substr(path.find_last_of('.') + 1);
-  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == "dae") {
+  const std::string ext = io::lower_extension(path);
+  if (ext == ".dae") {
     raw.declared_to_mm = collada_unit(path, raw.declared_unit);
-  } else if (ext == "gltf" || ext == "glb") {
+  } else if (ext == ".gltf" || ext == ".glb") {
     raw.declared_to_mm = 1000.0;  // glTF 2.0: "the units for all linear distances are meters"
     raw.declared_unit = "m (glTF 2.0 specification)";
   }

@@ -7,16 +7,10 @@
 #include <sstream>
 
 #include "laserfit/core/error.hpp"
+#include "laserfit/io/util.hpp"
 
 namespace laserfit::cad {
 namespace {
-
-std::string lower_ext(const std::string& path) {
-  std::string e = std::filesystem::path(path).extension().string();
-  if (!e.empty()) e.erase(0, 1);
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
-  return e;
-}
 
 bool is_brep(const std::string& ext) {
   return ext == "step" || ext == "stp" || ext == "iges" || ext == "igs";
@@ -69,7 +63,8 @@ ImportResult import_cad(const std::string& path, const ImportSettings& s) {
     throw Error(path, "--deflection must be a positive length in mm");
 
   ImportResult r;
-  r.format = lower_ext(path);
+  r.format = io::lower_extension(path);
+  if (!r.format.empty()) r.format.erase(0, 1);  // "step", not ".step"
   const auto t0 = std::chrono::steady_clock::now();
   RawMesh raw;
   if (is_brep(r.format)) {

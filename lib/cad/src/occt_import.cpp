@@ -29,6 +29,7 @@
 #include "laserfit/cad/import.hpp"
 #include "laserfit/cad/occt_mesh.hpp"
 #include "laserfit/core/error.hpp"
+#include "laserfit/io/util.hpp"
 
 namespace laserfit::cad {
 namespace {
@@ -68,9 +69,8 @@ void quiet_occt() {
 RawMesh read_with_occt(const std::string& path, const ImportSettings& s) {
   quiet_occt();
   RawMesh raw;
-  std::string ext = path.substr(path.find_last_of('.') + 1);
-  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  const bool step = ext == "step" || ext == "stp";
+  const std::string ext = io::lower_extension(path);
+  const bool step = ext == ".step" || ext == ".stp";
 
   Handle(TDocStd_Document) doc;
   XCAFApp_Application::GetApplication()->NewDocument("MDTV-XCAF", doc);

@@ -18,7 +18,7 @@ RefineOutput run_pcl_registration(Reg& reg, const RefineInput& in) {
   reg.align(aligned, to_matrix4f(in.init.inverse()));
   RefineOutput out;
   out.T = from_matrix4f(reg.getFinalTransformation()).inverse();  // T_ref_scan -> T_scan_ref
-  out.iterations = in.s.max_iterations;  // PCL does not report the count it used
+  out.iterations = 0;  // PCL's ICP classes do not report how many iterations they used
   return out;
 }
 

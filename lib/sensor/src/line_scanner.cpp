@@ -40,10 +40,6 @@ const char* visibility_name(Visibility v) {
   return "?";
 }
 
-Eigen::Vector3d camera_position(const LineScannerGeometry& g, double y) {
-  return {0.0, y + g.baseline_mm(), 0.0};
-}
-
 LineScannerView::LineScannerView(const Pose& T, const LineScannerGeometry& g, bool swept)
     : T_scene_sensor_(T),
       T_sensor_scene_(T.inverse()),
@@ -72,12 +68,6 @@ Visibility LineScannerView::visibility(const raycast::Scene& scene, const Eigen:
   if (!scene.segment_clear(p + eps * n, emitter, eps)) return Visibility::LaserShadow;
   if (!scene.segment_clear(p + eps * n, camera, eps)) return Visibility::CameraShadow;
   return Visibility::Visible;
-}
-
-Visibility line_scanner_visibility(const raycast::Scene& scene, const Pose& T_scene_sensor,
-                                   const LineScannerGeometry& g, const Eigen::Vector3f& p,
-                                   const Eigen::Vector3f& n, bool swept) {
-  return LineScannerView(T_scene_sensor, g, swept).visibility(scene, p, n);
 }
 
 }  // namespace laserfit::sensor

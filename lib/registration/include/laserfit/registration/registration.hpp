@@ -79,7 +79,7 @@ struct RegistrationResult {
   double fitness_mm2 = 0;           // PCL-style ICP fitness: mean squared NN distance (inliers)
   double inlier_rmse_mm = 0;
   double overlap = 0;               // fraction of reference points with a scan point within gate
-  int attempts = 0, iterations = 0;
+  int attempts = 0, iterations = 0;  // iterations: ceres and ndt only (PCL ICP does not say)
   Matrix6d covariance = Matrix6d::Zero();  // [rx ry rz (rad), tx ty tz (mm)], scan frame
   Vector6d hessian_eigenvalues = Vector6d::Zero();  // scaled, ascending
   Vector6d weakest_direction = Vector6d::Zero();

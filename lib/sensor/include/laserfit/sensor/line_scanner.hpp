@@ -40,16 +40,22 @@ inline constexpr float kSelfShadowEps_mm = 2e-3f;
 enum class Visibility { Visible, OutOfRange, OutsideFan, Grazing, LaserShadow, CameraShadow };
 const char* visibility_name(Visibility v);
 
-// A scanner placed in a scene, with everything the visibility rule needs precomputed (it runs
-// once or twice per candidate point, millions of times per cloud).
+// The one visibility rule, for a scanner placed in a scene (T_scene_sensor). `p`, `n` are a
+// surface point and its outward normal in the scene frame. For a swept scanner the emitter is
+// wherever the sweep puts the laser plane through `p` (sensor origin moved along its y axis); for
+// a static one the emitter is the sensor origin. The point is measured when it lies inside the
+// measuring range and fan, the laser hits it not too obliquely and unobstructed (laser shadow),
+// and the camera sees it unobstructed and not too obliquely (camera shadow). Everything the rule
+// needs is precomputed: it runs once or twice per candidate point, millions of times per cloud.
 class LineScannerView {
  public:
   LineScannerView(const Pose& T_scene_sensor, const LineScannerGeometry& g, bool swept = true);
   Visibility visibility(const raycast::Scene& scene, const Eigen::Vector3f& p,
                         const Eigen::Vector3f& n) const;
   const Pose& T_scene_sensor() const { return T_scene_sensor_; }
-  // Camera half of the rule, for a point the laser already reaches (the scanner's laser ray hit
-  // it first): camera angle and camera occlusion. `y` is the sweep offset of the laser plane.
+  // Pieces of the rule for the scanner, whose laser ray already found the lit point: the camera
+  // position (laser plane at sweep offset y) and the camera viewing-angle test; the camera
+  // occlusion ray is cast in batches by the scanner itself (raycast::Scene::segments_clear).
   bool camera_angle_ok(const Eigen::Vector3f& p, const Eigen::Vector3f& n,
                        const Eigen::Vector3f& camera) const {
     return n.dot((camera - p).normalized()) >= cos_max_camera_;
@@ -64,18 +70,5 @@ class LineScannerView {
   double tan_half_fan_, baseline_;
   float cos_max_incidence_, cos_max_camera_;
 };
-
-// The one visibility rule. `p`, `n` are a surface point and its outward normal in the scene
-// frame; T_scene_sensor places the sensor. For a swept scanner the emitter is wherever the sweep
-// puts the laser plane through `p` (sensor origin moved along its y axis); for a static one the
-// emitter is the sensor origin. The point is measured when it lies inside the measuring range
-// and fan, the laser hits it not too obliquely and unobstructed (laser shadow), and the camera
-// sees it unobstructed and not too obliquely (camera shadow).
-Visibility line_scanner_visibility(const raycast::Scene& scene, const Pose& T_scene_sensor,
-                                   const LineScannerGeometry& g, const Eigen::Vector3f& p,
-                                   const Eigen::Vector3f& n, bool swept = true);
-
-// The camera of the scanner for a laser plane at sweep offset y (sensor frame).
-Eigen::Vector3d camera_position(const LineScannerGeometry& g, double y_offset_mm = 0.0);
 
 }  // namespace laserfit::sensor
