@@ -85,7 +85,10 @@ TEST(Scan, DepthNoiseHasTheConfiguredSigma) {
     for (const auto& p : pts) ss += p.z() * p.z();
     // Noise is along the laser ray with sigma / cos(incidence); on a plane facing the sensor its
     // z component has exactly sigma. Tolerance: 10 % (the issue's), sampling error here ~0.2 %.
-    EXPECT_NEAR(std::sqrt(ss / pts.size()) * 1e3, sigma_um, 0.1 * sigma_um);
+    const double measured = std::sqrt(ss / pts.size()) * 1e3;
+    std::cout << "depth noise: configured " << sigma_um << " um, measured " << measured << " um over "
+              << pts.size() << " points\n";
+    EXPECT_NEAR(measured, sigma_um, 0.1 * sigma_um);
   }
 }
 
@@ -102,6 +105,8 @@ TEST(Scan, StepHeightMeasuredWithin2um) {
   const Eigen::Vector3d plane = fit_plane(low);
   double sum = 0;
   for (const auto& p : high) sum += p.z() - (plane(0) + plane(1) * p.x() + plane(2) * p.y());
+  std::cout << "step: true " << h << " mm, measured " << sum / high.size() << " mm ("
+            << (sum / high.size() - h) * 1e3 << " um) from " << low.size() << " + " << high.size() << " points\n";
   EXPECT_NEAR(sum / high.size(), h, 2e-3);
 }
 
