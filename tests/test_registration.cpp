@@ -169,6 +169,36 @@ TEST(Registration, SameSeedSamePoseWhateverTheThreadCount) {
   EXPECT_EQ(a.T_scan_ref.matrix(), b.T_scan_ref.matrix());
 }
 
+TEST(Registration, SegmentationSeparatesPartsByTheirGap) {
+  // A plug held 3 mm in front of a receptacle, scanned at 45 degrees with every noise source on:
+  // one cluster holds the plug (>= 99 % of the points the simulator labelled plug, and almost
+  // nothing else); no other cluster holds more than 1 % plug points. (The plate may split into
+  // several clusters where the plug's shadow cuts it: that is fine.)
+  scan::ScanScene sc;
+  sc.objects.push_back({"receptacle", "", Pose::Identity(), false, cad_mesh("usb_a_receptacle")});
+  sc.objects.push_back({"plug", "", pose_from_tq({0, 0, -3}, Eigen::Quaterniond::Identity()), false,
+                        cad_mesh("usb_a_plug")});
+  auto& sw = sc.settings.sweep;
+  sw.T_base_sensor_start = look_at({0, -62, -62}, {0, 0, -4});
+  sw.length_mm = 12, sw.speed_mm_s = 20, sw.profile_rate_hz = 500;
+  const auto r = scan::simulate_scan(sc);
+  const auto parts = reg::segment_clusters(r.cloud, 0.25, 0.75);
+  size_t plug_total = 0;
+  for (size_t i = 0; i < r.cloud.size(); ++i) plug_total += r.cloud.labels[i] == 1;
+  ASSERT_GT(plug_total, 10000u);
+  int plug_clusters = 0;
+  for (const auto& p : parts) {
+    const size_t plug = std::count(p.labels.begin(), p.labels.end(), 1);
+    if (plug > 0.99 * p.size()) {
+      ++plug_clusters;
+      EXPECT_GT(plug, 0.99 * plug_total);
+    } else {
+      EXPECT_LT(plug, 0.01 * p.size());
+    }
+  }
+  EXPECT_EQ(plug_clusters, 1);
+}
+
 TEST(Registration, RefusesUnusableInput) {
   const PointCloud ref = full_ref(cad_mesh("usb_a_plug"), 5000);
   PointCloud empty;

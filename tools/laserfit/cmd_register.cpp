@@ -17,7 +17,8 @@ struct Options {
   double voxel = 0, rho_rot = 30, rho_icp = 0.05;
   int attempts = 8;
   uint64_t seed = 1;
-  bool json = false;
+  bool json = false, no_segment = false;
+  int max_clusters = 4;
 };
 
 Eigen::Vector3d parse_vec3(const std::string& text, const std::string& what) {
@@ -80,12 +81,15 @@ int run(const Options& o) {
   for (const auto& ref_path : o.refs) {
     const PointCloud ref = io::read_cloud(ref_path);
     registration::RegistrationResult r;
+    int cluster = -1;
     try {
-      r = registration::register_cloud(scan, ref, s);
+      r = o.no_segment ? registration::register_cloud(scan, ref, s)
+                       : registration::register_segmented(scan, ref, s, o.max_clusters, &cluster);
     } catch (const Error& e) {
       throw Error(o.scan + " vs " + ref_path, e.what());
     }
     results.push_back(result_json(ref_path, r));
+    results.back()["cluster"] = cluster;
     const auto tq = pose_to_tq(r.T_scan_ref);
     h << ref_path << ": " << registration::status_name(r.status) << (r.reason.empty() ? "" : " (" + r.reason + ")")
       << "\n  T_scan_ref  t = [" << tq[0] << ", " << tq[1] << ", " << tq[2] << "] mm, q = [" << tq[3]
@@ -118,6 +122,8 @@ Command add_register(CLI::App& root) {
   app->add_option("--voxel", o->voxel, "voxel size (mm); 0 = reference diagonal / 150")->capture_default_str();
   app->add_option("--viewpoint", o->viewpoint, "sensor position 'x y z' in the scan frame (default: from the scan's header)");
   app->add_option("--seed", o->seed, "RANSAC seed")->capture_default_str();
+  app->add_flag("--no-segment", o->no_segment, "register against the whole scan (one part only)");
+  app->add_option("--max-clusters", o->max_clusters, "try the reference against this many largest parts")->capture_default_str();
   app->add_flag("--json", o->json, "machine-readable result on stdout");
   return {app, [o] { return run(*o); }};
 }

@@ -144,4 +144,24 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
   return r;
 }
 
+RegistrationResult register_segmented(const PointCloud& scan, const PointCloud& ref,
+                                      const RegistrationSettings& s, int max_clusters, int* cluster) {
+  const double voxel = s.pre.voxel_mm > 0 ? s.pre.voxel_mm : auto_voxel_mm(ref);
+  // Parts further apart than 3 voxels are separate; a part needs at least a few dozen voxels.
+  const auto parts = segment_clusters(scan, voxel, 3 * voxel, 50);
+  if (parts.empty()) throw Error("no part of the scan is large enough to register");
+  RegistrationResult best;
+  int best_i = -1;
+  auto rank = [](const RegistrationResult& r) { return r.status == Status::Ok ? 0 : r.status == Status::Ambiguous ? 1 : 2; };
+  for (int i = 0; i < int(parts.size()) && i < max_clusters; ++i) {
+    if (parts[i].points.size() < 10) continue;
+    RegistrationResult r = register_cloud(parts[i], ref, s);
+    if (best_i < 0 || rank(r) < rank(best) || (rank(r) == rank(best) && r.fitness_mm2 < best.fitness_mm2))
+      best = std::move(r), best_i = i;
+  }
+  if (cluster) *cluster = best_i;
+  best.timings_s["clusters"] = double(parts.size());
+  return best;
+}
+
 }  // namespace laserfit::registration

@@ -94,4 +94,16 @@ RegistrationResult register_cloud(const PointCloud& scan, const PointCloud& ref,
 
 std::vector<std::string> refiner_names();
 
+// Splits a scan into parts by Euclidean clustering of its downsampled points (gap larger than
+// `tolerance_mm`), largest first; each part is returned at full resolution (the scan points in
+// the cluster's bounding box grown by one voxel). Clusters under `min_points` are dropped.
+std::vector<PointCloud> segment_clusters(const PointCloud& scan, double voxel_mm, double tolerance_mm,
+                                         size_t min_points = 50);
+
+// Registers `ref` against each of the largest `max_clusters` parts of the scan and returns the
+// best (ok before ambiguous before failed, then lowest fitness); `cluster` receives its index.
+RegistrationResult register_segmented(const PointCloud& scan, const PointCloud& ref,
+                                      const RegistrationSettings& settings, int max_clusters = 4,
+                                      int* cluster = nullptr);
+
 }  // namespace laserfit::registration
