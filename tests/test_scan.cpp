@@ -68,7 +68,7 @@ TEST(Scan, ProfilesHave2048PointsAndNoNoiseMeansExactGeometry) {
     const auto& p = r.cloud.points[j];
     if (p.allFinite()) xmin = std::min(xmin, double(p.x())), xmax = std::max(xmax, double(p.x()));
   }
-  EXPECT_NEAR(xmax - xmin, 25.0 * 90 / 90, 0.01);
+  EXPECT_NEAR(xmax - xmin, 25.0, 0.01);
 }
 
 TEST(Scan, DepthNoiseHasTheConfiguredSigma) {

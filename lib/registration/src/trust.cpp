@@ -68,9 +68,14 @@ PlaneSystem plane_system(const PclCloud& scan, const Tree& ref_tree, const Pose&
 
 void assess(const PclCloud& scan, const Tree& ref_tree, double gate, const TrustSettings& t,
             double voxel, RegistrationResult& r) {
-  const Fit f = evaluate(scan, ref_tree, r.T_scan_ref, gate);
-  r.fitness_mm2 = f.fitness_mm2, r.inlier_rmse_mm = f.rmse_mm, r.overlap = f.overlap;
+  // One pass over the scan gives both the fit statistics and the normal equations.
   const PlaneSystem sys = plane_system(scan, ref_tree, r.T_scan_ref, gate);
+  Fit f;
+  f.inliers = sys.n;
+  f.overlap = scan.empty() ? 0 : double(sys.n) / scan.size();
+  f.fitness_mm2 = sys.n ? sys.residual2 / sys.n : std::numeric_limits<double>::infinity();
+  f.rmse_mm = std::sqrt(f.fitness_mm2);
+  r.fitness_mm2 = f.fitness_mm2, r.inlier_rmse_mm = f.rmse_mm, r.overlap = f.overlap;
   const Matrix6d& H = sys.H;
   const size_t n = sys.n;
   const double res2 = sys.residual2, L = sys.L;

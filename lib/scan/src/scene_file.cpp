@@ -37,6 +37,15 @@ struct Reader {
       fail(where + "." + key, "not a number");
     }
   }
+  // A block of numeric settings: the table names the accepted keys and the fields they fill, so
+  // the key list is never written twice. `extra` are further keys the caller reads itself.
+  using Fields = std::initializer_list<std::pair<const char*, double*>>;
+  void numbers(const YAML::Node& n, const std::string& where, Fields fields,
+               std::set<std::string> extra = {}) const {
+    for (const auto& f : fields) extra.insert(f.first);
+    only(n, where, extra);
+    for (const auto& [key, field] : fields) *field = num(n, key, *field, where);
+  }
   bool flag(const YAML::Node& n, const std::string& key, bool def, const std::string& where) const {
     if (!n[key]) return def;
     try {
@@ -68,17 +77,15 @@ struct Reader {
 };
 
 void read_sensor(const Reader& R, const YAML::Node& n, sensor::LineScannerGeometry& g) {
-  R.only(n, "sensor", {"points_per_profile", "z_min_mm", "z_max_mm", "width_mid_mm",
-                       "triangulation_angle_deg", "max_incidence_deg", "max_camera_angle_deg"});
-  const double ppp = R.num(n, "points_per_profile", g.points_per_profile, "sensor");
-  if (ppp != std::floor(ppp)) R.fail("sensor.points_per_profile", "must be an integer");
+  double ppp = g.points_per_profile;
+  R.numbers(n, "sensor", {{"points_per_profile", &ppp}, {"z_min_mm", &g.z_min_mm},
+                          {"z_max_mm", &g.z_max_mm}, {"width_mid_mm", &g.width_mid_mm},
+                          {"triangulation_angle_deg", &g.triangulation_angle_deg},
+                          {"max_incidence_deg", &g.max_incidence_deg},
+                          {"max_camera_angle_deg", &g.max_camera_angle_deg}});
+  if (ppp != std::floor(ppp) || ppp < 2 || ppp > 65536)
+    R.fail("sensor.points_per_profile", "must be an integer in 2..65536");
   g.points_per_profile = static_cast<int>(ppp);
-  g.z_min_mm = R.num(n, "z_min_mm", g.z_min_mm, "sensor");
-  g.z_max_mm = R.num(n, "z_max_mm", g.z_max_mm, "sensor");
-  g.width_mid_mm = R.num(n, "width_mid_mm", g.width_mid_mm, "sensor");
-  g.triangulation_angle_deg = R.num(n, "triangulation_angle_deg", g.triangulation_angle_deg, "sensor");
-  g.max_incidence_deg = R.num(n, "max_incidence_deg", g.max_incidence_deg, "sensor");
-  g.max_camera_angle_deg = R.num(n, "max_camera_angle_deg", g.max_camera_angle_deg, "sensor");
 }
 
 void read_sweep(const Reader& R, const YAML::Node& n, SweepSettings& s) {
@@ -118,29 +125,24 @@ void read_sweep(const Reader& R, const YAML::Node& n, SweepSettings& s) {
 }
 
 void read_noise(const Reader& R, const YAML::Node& n, NoiseSettings& s) {
-  R.only(n, "noise", {"enabled", "depth_sigma_um", "x_jitter_um", "z_quantum_um", "speckle_sigma_um",
-                      "speckle_corr_um", "dropout_rate", "grazing_start_deg", "mixed_pixel_prob",
-                      "mixed_pixel_jump_mm", "outlier_rate", "outlier_max_mm", "bias_sigma_um"});
+  R.numbers(n, "noise",
+            {{"depth_sigma_um", &s.depth_sigma_um}, {"x_jitter_um", &s.x_jitter_um},
+             {"z_quantum_um", &s.z_quantum_um}, {"speckle_sigma_um", &s.speckle_sigma_um},
+             {"speckle_corr_um", &s.speckle_corr_um}, {"dropout_rate", &s.dropout_rate},
+             {"grazing_start_deg", &s.grazing_start_deg}, {"mixed_pixel_prob", &s.mixed_pixel_prob},
+             {"mixed_pixel_jump_mm", &s.mixed_pixel_jump_mm}, {"outlier_rate", &s.outlier_rate},
+             {"outlier_max_mm", &s.outlier_max_mm}, {"bias_sigma_um", &s.bias_sigma_um}},
+            {"enabled"});
   s.enabled = R.flag(n, "enabled", s.enabled, "noise");
-  for (auto [key, field] : std::initializer_list<std::pair<const char*, double*>>{
-           {"depth_sigma_um", &s.depth_sigma_um}, {"x_jitter_um", &s.x_jitter_um},
-           {"z_quantum_um", &s.z_quantum_um}, {"speckle_sigma_um", &s.speckle_sigma_um},
-           {"speckle_corr_um", &s.speckle_corr_um}, {"dropout_rate", &s.dropout_rate},
-           {"grazing_start_deg", &s.grazing_start_deg}, {"mixed_pixel_prob", &s.mixed_pixel_prob},
-           {"mixed_pixel_jump_mm", &s.mixed_pixel_jump_mm}, {"outlier_rate", &s.outlier_rate},
-           {"outlier_max_mm", &s.outlier_max_mm}, {"bias_sigma_um", &s.bias_sigma_um}})
-    *field = R.num(n, key, *field, "noise");
 }
 
 void read_motion(const Reader& R, const YAML::Node& n, MotionSettings& s) {
-  R.only(n, "motion", {"enabled", "offset_sigma_mm", "offset_sigma_deg", "jitter_sigma_mm",
-                       "jitter_sigma_deg", "jitter_corr_profiles", "calibration_error"});
+  R.numbers(n, "motion",
+            {{"offset_sigma_mm", &s.offset_sigma_mm}, {"offset_sigma_deg", &s.offset_sigma_deg},
+             {"jitter_sigma_mm", &s.jitter_sigma_mm}, {"jitter_sigma_deg", &s.jitter_sigma_deg},
+             {"jitter_corr_profiles", &s.jitter_corr_profiles}},
+            {"enabled", "calibration_error"});
   s.enabled = R.flag(n, "enabled", s.enabled, "motion");
-  s.offset_sigma_mm = R.num(n, "offset_sigma_mm", s.offset_sigma_mm, "motion");
-  s.offset_sigma_deg = R.num(n, "offset_sigma_deg", s.offset_sigma_deg, "motion");
-  s.jitter_sigma_mm = R.num(n, "jitter_sigma_mm", s.jitter_sigma_mm, "motion");
-  s.jitter_sigma_deg = R.num(n, "jitter_sigma_deg", s.jitter_sigma_deg, "motion");
-  s.jitter_corr_profiles = R.num(n, "jitter_corr_profiles", s.jitter_corr_profiles, "motion");
   if (n["calibration_error"]) {
     const auto c = R.list(n["calibration_error"], "motion.calibration_error");
     if (c.size() != 6) R.fail("motion.calibration_error", "expected [x, y, z (mm), rx, ry, rz (deg)]");
