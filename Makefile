@@ -11,9 +11,9 @@ DEB_PACKAGES := cmake ninja-build ccache g++ pkg-config \
   libeigen3-dev libpcl-dev libflann-dev libembree-dev libcgal-dev libassimp-dev libceres-dev \
   libocct-data-exchange-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev \
   libocct-foundation-dev libyaml-cpp-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev \
-  nlohmann-json3-dev libcli11-dev
+  nlohmann-json3-dev libcli11-dev python3 python3-numpy python3-open3d
 
-.PHONY: all deps configure build test demo cad bench bench-cad bench-scan clean format
+.PHONY: all deps configure build test demo cad bench bench-cad bench-scan bench-registration clean format
 
 all: build
 
@@ -64,7 +64,20 @@ bench-scan: build
 	$(BIN)/bench_scan --benchmark_out=reports/scan/bench_scan.json --benchmark_out_format=json \
 	  --benchmark_counters_tabular=true | tee reports/scan/bench_scan.txt
 
-bench: bench-cad bench-scan
+# Registration accuracy campaign (benchmarks/registration.yaml; TRIALS=N overrides its count,
+# METHODS=a,b the methods) with the Open3D baseline on the same scans, table in reports/.
+TRIALS ?= 0
+METHODS ?= ceres,point_to_plane,point_to_point,gicp,ndt,paper
+REG_OUT := reports/registration
+bench-registration: build
+	@mkdir -p $(REG_OUT) out/registration_dump
+	$(BIN)/registration_campaign benchmarks/registration.yaml --trials $(TRIALS) --methods $(METHODS) \
+	  --out $(REG_OUT) --dump out/registration_dump --dump-trials 50
+	/usr/bin/python3 benchmarks/registration/open3d_baseline.py out/registration_dump $(REG_OUT)/open3d.jsonl
+	/usr/bin/python3 benchmarks/registration/summarize.py $(REG_OUT)/results.jsonl $(REG_OUT)/open3d.jsonl \
+	  | tee $(REG_OUT)/table.md
+
+bench: bench-cad bench-scan bench-registration
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')

@@ -75,9 +75,11 @@ TEST(Registration, RecoversAKnownPoseOfTheUsbPlug) {
               << ", attempts " << r.attempts;
     for (const auto& [k, v] : r.timings_s) std::cout << " " << k << " " << v;
     std::cout << "\n";
+    // Sub-micrometre: noise-free surface samples, scan points kept unaveraged (one real point per
+    // voxel), exact CAD normals. Measured 0.50 um (ceres) and 0.94 um (point_to_plane).
     EXPECT_EQ(r.status, reg::Status::Ok) << r.reason;
-    EXPECT_LT(trans_err_um(r.T_scan_ref, T), 20.0);
-    EXPECT_LT(rot_err_deg(r.T_scan_ref, T), 0.2);
+    EXPECT_LT(trans_err_um(r.T_scan_ref, T), 1.0);
+    EXPECT_LT(rot_err_deg(r.T_scan_ref, T), 0.01);
   }
 }
 
@@ -114,8 +116,8 @@ reg::RegistrationSettings settings_for(const Scanned& s, const Pose& truth) {
 }  // namespace
 
 TEST(Registration, RecoversTheUsbPlugFromANoisyScan) {
-  // Default sensor noise (1.5 um depth, speckle, dropouts, bias, arm errors): within 10 um and
-  // 0.05 deg of the ground truth T_scan_object.
+  // Default sensor noise (1.5 um depth, speckle, dropouts, bias, arm errors) against the ground
+  // truth T_scan_object.
   const TriMesh plug = cad_mesh("usb_a_plug");
   const Pose T = test_pose();
   // From the plug's front (its +z), tilted 25 degrees: the shell opening and the insulator are
@@ -123,12 +125,11 @@ TEST(Registration, RecoversTheUsbPlugFromANoisyScan) {
   const Eigen::Vector3d front = T.rotation() * Eigen::Vector3d(0, -std::sin(0.44), std::cos(0.44));
   const auto scanned = simulate(plug, T, front);
   const auto r = reg::register_cloud(scanned.cloud, full_ref(plug), settings_for(scanned, scanned.T_scan_object));
-  // Tolerance: the success criterion (50 um, 0.5 deg), not its 5 um median target, which
-  // this case misses (31-44 um measured over RANSAC seeds 1-3, error along the weakest direction
-  // of the box-like plug; noise-free the same chain is within 2 um).
+  // Tolerance 20 um / 0.1 deg (measured 10.4 um, 0.016 deg); the success criterion is
+  // 50 um / 0.5 deg. The campaign (make bench-registration) measures the distribution.
   EXPECT_EQ(r.status, reg::Status::Ok) << r.reason;
-  EXPECT_LT(trans_err_um(r.T_scan_ref, scanned.T_scan_object), 50.0);
-  EXPECT_LT(rot_err_deg(r.T_scan_ref, scanned.T_scan_object), 0.5);
+  EXPECT_LT(trans_err_um(r.T_scan_ref, scanned.T_scan_object), 20.0);
+  EXPECT_LT(rot_err_deg(r.T_scan_ref, scanned.T_scan_object), 0.1);
   std::cout << "noisy scan: t_err " << trans_err_um(r.T_scan_ref, scanned.T_scan_object) << " um, r_err "
             << rot_err_deg(r.T_scan_ref, scanned.T_scan_object) << " deg, rmse " << r.inlier_rmse_mm * 1e3 << " um\n";
 }

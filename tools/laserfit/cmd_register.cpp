@@ -12,12 +12,12 @@ namespace laserfit::cli {
 namespace {
 
 struct Options {
-  std::string scan, method = "ceres", prior, q0, viewpoint;
+  std::string scan, method = "ceres", coarse = "gated", prior, q0, viewpoint;
   std::vector<std::string> refs;
   double voxel = 0, rho_rot = 30, rho_icp = 0.05;
   int attempts = 8;
   uint64_t seed = 1;
-  bool json = false, no_segment = false;
+  bool json = false, no_segment = false, refine_only = false;
   int max_clusters = 4;
 };
 
@@ -51,19 +51,21 @@ io::Json result_json(const std::string& ref, const registration::RegistrationRes
           {"covariance", cov},
           {"covariance_order", "rx ry rz (rad, about the matched points' centroid), tx ty tz (mm)"},
           {"hessian_eigenvalues", std::vector<double>(r.hessian_eigenvalues.data(), r.hessian_eigenvalues.data() + 6)},
-          {"timings_s", r.timings_s}};
+          {"timings_s", r.timings_s},
+          {"log", r.log}};
 }
 
 int run(const Options& o) {
   const PointCloud scan = io::read_cloud(o.scan);
   registration::RegistrationSettings s;
   s.refine.method = o.method;
+  s.coarse.method = o.coarse;
   s.pre.voxel_mm = o.voxel;
   s.rho_rot_deg = o.rho_rot;
   s.rho_icp_vox2 = o.rho_icp;
   s.max_attempts = o.attempts;
   s.seed = o.seed;
-  if (!o.prior.empty()) s.prior = parse_pose(o.prior, "--prior"), s.skip_coarse = true;
+  if (!o.prior.empty()) s.prior = parse_pose(o.prior, "--prior"), s.skip_coarse = o.refine_only;
   if (!o.q0.empty()) {
     std::istringstream in(o.q0);
     double w, x, y, z;
@@ -114,7 +116,9 @@ Command add_register(CLI::App& root) {
     for (const auto& m : registration::refiner_names()) n += (n.empty() ? "" : ", ") + m;
     return n;
   }())->capture_default_str();
-  app->add_option("--prior", o->prior, "prior pose T_scan_ref 'x y z qw qx qy qz': refine only (no RANSAC)");
+  app->add_option("--coarse", o->coarse, "coarse stage: gated (rho_rot tested on every RANSAC hypothesis) | pcl (PCL SampleConsensusPrerejective, rho_rot on its result: the paper)")->capture_default_str();
+  app->add_option("--prior", o->prior, "prior pose T_scan_ref 'x y z qw qx qy qz' (e.g. from the arm): the first hypothesis, RANSAC after it");
+  app->add_flag("--refine-only", o->refine_only, "with --prior: refine from it, no RANSAC");
   app->add_option("--q0", o->q0, "prior orientation 'w x y z' for the rho_rot gate (paper's q0)");
   app->add_option("--rho-rot", o->rho_rot, "rho_rot: reject RANSAC poses farther from q0 (deg)")->capture_default_str();
   app->add_option("--rho-icp", o->rho_icp, "rho_ICP: stop below this fitness, in voxel^2")->capture_default_str();

@@ -26,6 +26,12 @@ struct Candidate {
   Fit fit;
 };
 
+std::string fmt(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.4g", v);
+  return b;
+}
+
 bool agree(const Pose& a, const Pose& b, const TrustSettings& t) {
   return (a.translation() - b.translation()).norm() <= t.restart_agreement_mm &&
          Eigen::AngleAxisd(a.rotation().transpose() * b.rotation()).angle() * 180 / M_PI <= t.restart_agreement_deg;
@@ -53,9 +59,13 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
   auto t = Clock::now();
   PreprocessSettings ref_pre = s.pre;
   ref_pre.use_viewpoint = false, ref_pre.outlier_std = 0;  // CAD samples have no outliers
-  const PclCloud::Ptr scan = to_pcl(preprocess(scan_in, s.pre, voxel));
-  // The reference keeps its dense CAD samples and exact normals for refinement and assessment
-  // (a voxel grid would move points off the surface at edges); without normals, estimate them.
+  const PclCloud::Ptr scan_all = to_pcl(scan_in);
+  const PclCloud::Ptr scan_s = sample_and_filter(scan_all, s.pre, voxel);
+  if (scan_s->size() < 10) throw Error("fewer than 10 scan points left after filtering and downsampling");
+  const PclCloud::Ptr scan = with_normals(scan_s, scan_s, s.pre.normal_radius_vox * voxel, s.pre, false);
+  if (scan->size() < 10) throw Error("fewer than 10 scan points with normals after preprocessing");
+  // The reference keeps its dense CAD samples and exact normals for refinement and assessment;
+  // without normals, they are estimated.
   const PclCloud::Ptr ref = ref_in.has_normals() ? to_pcl(ref_in) : to_pcl(preprocess(ref_in, ref_pre, voxel));
   r.timings_s["preprocess"] = since(t);
 
@@ -67,15 +77,19 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
   PclCloud::Ptr ref_c, scan_c;  // the coarser grid of the RANSAC stage
   const bool coarse = !(s.skip_coarse && s.prior);
   const double cvox = s.coarse.voxel_factor * voxel;
+  if (s.coarse.method != "gated" && s.coarse.method != "pcl")
+    throw Error("unknown coarse method '" + s.coarse.method + "' (gated, pcl)");
+  const bool gated = s.coarse.method == "gated";
   if (coarse) {
-    scan_c = to_pcl(preprocess(scan_in, s.pre, cvox));
-    ref_c = to_pcl(preprocess(ref_in, ref_pre, cvox));
+    scan_c = coarser(scan, cvox, s.pre, false);
+    ref_c = coarser(ref, cvox, ref_pre, true);
     ref_f = fpfh(ref_c, s.coarse.feature_radius_vox * cvox);
     scan_f = fpfh(scan_c, s.coarse.feature_radius_vox * cvox);
   }
   r.timings_s["features"] = since(t);
 
   const double gate = s.refine.max_correspondence_vox * voxel;
+  const Matcher matcher{gate, s.pre.use_viewpoint};
   const double rho_icp = s.rho_icp_vox2 * voxel * voxel;
   std::vector<Candidate> good;  // refined poses with fitness below rho_ICP
   Candidate best{Pose::Identity(), Fit{}};
@@ -85,28 +99,53 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
     ++r.attempts;
     Pose T0 = s.prior.value_or(Pose::Identity());
     t = Clock::now();
-    if (coarse && (!coarse_align(ref_c, ref_f, scan_c, scan_f, s.coarse, cvox, s.seed + 7919u * a, T0) ||
-                   !T0.matrix().allFinite())) {
+    const std::string head = "attempt " + std::to_string(a + 1) + ": ";
+    const uint64_t seed = s.seed + 7919u * a;
+    // A prior pose (the robot's own belief) is the first hypothesis; RANSAC supplies the rest.
+    const bool from_prior = s.prior && a == 0;
+    if (from_prior && coarse) r.log.push_back(head + "starting from the prior pose");
+    const bool found = !coarse || from_prior ? true
+                       : gated ? coarse_align_gated(ref_c, ref_f, scan_c, scan_f, s.coarse, cvox, seed, s.q0, s.rho_rot_deg, T0)
+                               : coarse_align(ref_c, ref_f, scan_c, scan_f, s.coarse, cvox, seed, T0);
+    if (!found || !T0.matrix().allFinite()) {
       t_ransac += since(t);
+      r.log.push_back(head + "RANSAC found no hypothesis with inlier fraction " + fmt(s.coarse.inlier_fraction));
       continue;
     }
     t_ransac += since(t);
-    if (s.q0 && rotation_angle(Eigen::Quaterniond(T0.rotation()), *s.q0) * 180 / M_PI > s.rho_rot_deg)
-      continue;  // Algorithm 1, line 5: unrealistic orientation
+    if (s.q0 && !from_prior) {
+      const double d_phi = rotation_angle(Eigen::Quaterniond(T0.rotation()), *s.q0) * 180 / M_PI;
+      if (d_phi > s.rho_rot_deg) {  // Algorithm 1, line 5: unrealistic orientation
+        r.log.push_back(head + "rejected: d_phi(q, q0) = " + fmt(d_phi) + " deg > rho_rot");
+        continue;
+      }
+    }
+    if (coarse && !from_prior) {
+      const Fit f0 = evaluate(*scan, *ref_tree, T0, matcher);
+      r.log.push_back(head + "RANSAC pose t = [" + fmt(T0.translation().x()) + ", " + fmt(T0.translation().y()) +
+                      ", " + fmt(T0.translation().z()) + "], overlap " + fmt(f0.overlap));
+    }
     t = Clock::now();
     // PCL's least-squares ICP variants divide by a singular matrix when the data cannot fix all
     // six directions (a cylinder seen from the side) and then abort inside PCL on NaN poses; the
     // damped Ceres solve handles it, so degenerate data goes there.
     RefineFn use = refine;
     if (refine != refine_ceres) {
-      const Eigen::SelfAdjointEigenSolver<Matrix6d> es(plane_system(*scan, *ref_tree, T0, gate).H);
+      const Eigen::SelfAdjointEigenSolver<Matrix6d> es(plane_system(*scan, *ref_tree, T0, matcher).H);
       if (es.eigenvalues()[0] < 1e-6 * es.eigenvalues()[5]) use = refine_ceres;
     }
-    const RefineOutput out = use({ref, scan, tree, ref_tree, T0, voxel, s.refine});
+    const RefineOutput out = use({ref, scan, tree, ref_tree, T0, voxel, s.refine, s.pre.use_viewpoint});
     t_icp += since(t);
     r.iterations += out.iterations;
-    if (!out.T.matrix().allFinite()) continue;  // a degenerate solve (e.g. planar data): no pose
-    const Candidate c{out.T, evaluate(*scan, *ref_tree, out.T, gate)};
+    if (!out.T.matrix().allFinite()) {  // a degenerate solve (e.g. planar data): no pose
+      r.log.push_back(head + "refinement diverged (non-finite pose)");
+      continue;
+    }
+    const Candidate c{out.T, evaluate(*scan, *ref_tree, out.T, matcher)};
+    r.log.push_back(head + "refined: fitness " + fmt(c.fit.fitness_mm2 / (voxel * voxel)) + " voxel^2, rmse " +
+                    fmt(c.fit.rmse_mm * 1e3) + " um, overlap " + fmt(c.fit.overlap) + ", t = [" +
+                    fmt(out.T.translation().x()) + ", " + fmt(out.T.translation().y()) + ", " +
+                    fmt(out.T.translation().z()) + "]");
     if (c.fit.fitness_mm2 < best.fit.fitness_mm2) best = c;
     if (c.fit.fitness_mm2 < rho_icp) good.push_back(c);
     // Stop once two converged attempts agree (one when there is no coarse stage to repeat).
@@ -126,7 +165,21 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
     return r;
   }
   r.T_scan_ref = best.T;
-  assess(*scan, *ref_tree, gate, s.trust, voxel, r);
+  assess(*scan, *ref_tree, matcher, s.trust, voxel, r);
+  if (r.status == Status::Ok && refine != refine_ceres) {
+    // A pose is only trusted where the robust point-to-plane fit has its minimum: a PCL ICP
+    // that stopped on a plateau (sliding along a face) is caught here, not reported as ok.
+    RefineSettings ps = s.refine;
+    ps.robust_loss = "huber";
+    const RefineOutput pol = refine_ceres({ref, scan, tree, ref_tree, best.T, voxel, ps, s.pre.use_viewpoint});
+    const double dt = (pol.T.translation() - best.T.translation()).norm();
+    const double dr = Eigen::AngleAxisd(pol.T.rotation().transpose() * best.T.rotation()).angle() * 180 / M_PI;
+    if (!pol.T.matrix().allFinite() || dt > s.trust.polish_mm || dr > s.trust.polish_deg) {
+      r.status = Status::Failed;
+      r.reason = "not at the minimum of the robust point-to-plane fit (polishing moves it " + fmt(dt * 1e3) +
+                 " um, " + fmt(dr) + " deg)";
+    }
+  }
   if (r.status == Status::Ok) {
     // Equally good refined poses that disagree: a symmetry or a repeated structure, not a pose.
     for (const auto& c : good)
@@ -150,14 +203,31 @@ RegistrationResult register_segmented(const PointCloud& scan, const PointCloud& 
   // Parts further apart than 3 voxels are separate; a part needs at least a few dozen voxels.
   const auto parts = segment_clusters(scan, voxel, 3 * voxel, 50);
   if (parts.empty()) throw Error("no part of the scan is large enough to register");
+  // Try the parts nearest the prior first (where the arm believes the object is), else the
+  // largest first; stop at the first one that registers ok.
+  std::vector<int> order(parts.size());
+  for (size_t i = 0; i < parts.size(); ++i) order[i] = int(i);
+  if (s.prior) {
+    Eigen::Vector3f c = Eigen::Vector3f::Zero();
+    size_t n = 0;
+    for (const auto& p : ref.points)
+      if (p.allFinite()) c += p, ++n;
+    const Eigen::Vector3f at = (*s.prior * (c / float(std::max<size_t>(n, 1))).cast<double>()).cast<float>();
+    std::vector<float> dist(parts.size(), std::numeric_limits<float>::infinity());
+    for (size_t i = 0; i < parts.size(); ++i)
+      for (const auto& p : parts[i].points) dist[i] = std::min(dist[i], (p - at).squaredNorm());
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return dist[a] < dist[b]; });
+  }
   RegistrationResult best;
   int best_i = -1;
   auto rank = [](const RegistrationResult& r) { return r.status == Status::Ok ? 0 : r.status == Status::Ambiguous ? 1 : 2; };
-  for (int i = 0; i < int(parts.size()) && i < max_clusters; ++i) {
+  for (int k = 0; k < int(order.size()) && k < max_clusters; ++k) {
+    const int i = order[k];
     if (parts[i].points.size() < 10) continue;
     RegistrationResult r = register_cloud(parts[i], ref, s);
     if (best_i < 0 || rank(r) < rank(best) || (rank(r) == rank(best) && r.fitness_mm2 < best.fitness_mm2))
       best = std::move(r), best_i = i;
+    if (best.status == Status::Ok) break;
   }
   if (cluster) *cluster = best_i;
   best.timings_s["clusters"] = double(parts.size());

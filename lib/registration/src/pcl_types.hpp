@@ -4,6 +4,9 @@
 #include <pcl/point_types.h>
 #include <pcl/search/kdtree.h>
 
+#include <limits>
+#include <memory>
+
 #include "laserfit/core/cloud.hpp"
 #include "laserfit/core/pose.hpp"
 
@@ -11,7 +14,22 @@ namespace laserfit::registration {
 
 using PointT = pcl::PointNormal;
 using PclCloud = pcl::PointCloud<PointT>;
-using Tree = pcl::search::KdTree<PointT>;
+// PCL's kd-tree library is built with assertions: a non-finite query (a PCL ICP whose estimate
+// went NaN on degenerate data) aborts the process. This tree answers such a query with one
+// infinitely distant neighbour instead, which every correspondence gate then rejects.
+class Tree : public pcl::search::KdTree<PointT> {
+ public:
+  using Ptr = std::shared_ptr<Tree>;
+  using pcl::search::KdTree<PointT>::nearestKSearch;
+  int nearestKSearch(const PointT& p, int k, pcl::Indices& idx, std::vector<float>& d2) const override {
+    if (!p.getVector3fMap().allFinite()) {
+      idx.assign(1, 0);
+      d2.assign(1, std::numeric_limits<float>::infinity());
+      return 1;
+    }
+    return pcl::search::KdTree<PointT>::nearestKSearch(p, k, idx, d2);
+  }
+};
 
 // Finite points only (NaN = no measurement); normals copied when present.
 PclCloud::Ptr to_pcl(const PointCloud& c);

@@ -2,10 +2,12 @@
 
 #include <pcl/features/normal_3d_omp.h>
 #include <pcl/filters/statistical_outlier_removal.h>
+#include <pcl/filters/uniform_sampling.h>
 #include <pcl/filters/voxel_grid.h>
 
 #include "laserfit/core/error.hpp"
 #include "pcl_types.hpp"
+#include "stages.hpp"
 
 namespace laserfit::registration {
 
@@ -34,45 +36,73 @@ double auto_voxel_mm(const PointCloud& ref) {
   return box.diagonal().norm() / 150.0;
 }
 
-PointCloud preprocess(const PointCloud& in, const PreprocessSettings& s, double voxel) {
-  PclCloud::Ptr c = to_pcl(in);
-  if (c->empty()) throw Error("cloud has no finite points");
-  if (s.outlier_std > 0 && c->size() > size_t(s.outlier_neighbours)) {
+PclCloud::Ptr with_normals(const PclCloud::Ptr& cloud, const PclCloud::Ptr& surface, double radius,
+                           const PreprocessSettings& s, bool keep_side) {
+  pcl::NormalEstimationOMP<PointT, PointT> ne(2);
+  ne.setInputCloud(cloud);
+  ne.setSearchSurface(surface);
+  ne.setSearchMethod(Tree::Ptr(new Tree));
+  ne.setRadiusSearch(radius);
+  PclCloud est;
+  ne.compute(est);
+  PclCloud::Ptr out(new PclCloud);
+  out->reserve(cloud->size());
+  for (size_t i = 0; i < est.size(); ++i) {
+    PointT p = (*cloud)[i];
+    Eigen::Vector3f n = est[i].getNormalVector3fMap();
+    if (!n.allFinite()) continue;  // isolated point: no normal
+    if (s.use_viewpoint) {
+      if (n.dot(s.viewpoint.cast<float>() - p.getVector3fMap()) < 0) n = -n;
+    } else if (keep_side && p.getNormalVector3fMap().dot(n) < 0) {
+      n = -n;  // keep the CAD's outward side
+    }
+    p.getNormalVector3fMap() = n;
+    p.curvature = est[i].curvature;
+    out->push_back(p);
+  }
+  out->width = static_cast<uint32_t>(out->size());
+  out->height = 1;
+  return out;
+}
+
+PclCloud::Ptr sample_and_filter(const PclCloud::Ptr& c, const PreprocessSettings& s, double voxel) {
+  pcl::UniformSampling<PointT> us;  // keeps the input point nearest each voxel centre
+  us.setInputCloud(c);
+  us.setRadiusSearch(voxel);
+  PclCloud::Ptr d(new PclCloud);
+  us.filter(*d);
+  if (s.outlier_std > 0 && d->size() > size_t(s.outlier_neighbours)) {
     pcl::StatisticalOutlierRemoval<PointT> sor;
-    sor.setInputCloud(c);
+    sor.setInputCloud(d);
     sor.setMeanK(s.outlier_neighbours);
     sor.setStddevMulThresh(s.outlier_std);
     PclCloud::Ptr f(new PclCloud);
     sor.filter(*f);
-    c = f;
+    d = f;
   }
+  return d;
+}
+
+PclCloud::Ptr coarser(const PclCloud::Ptr& fine, double cvox, const PreprocessSettings& s, bool keep_side) {
+  // Features need a regular density, not unbiased points: the voxel grid's centroids will do.
   pcl::VoxelGrid<PointT> vg;
-  vg.setInputCloud(c);
-  vg.setLeafSize(float(voxel), float(voxel), float(voxel));
+  vg.setInputCloud(fine);
+  vg.setLeafSize(float(cvox), float(cvox), float(cvox));
   PclCloud::Ptr d(new PclCloud);
-  vg.filter(*d);
+  vg.filter(*d);  // averages the normals too: their side is kept for keep_side
+  return with_normals(d, fine, s.normal_radius_vox * cvox, s, keep_side);
+}
+
+PointCloud preprocess(const PointCloud& in, const PreprocessSettings& s, double voxel) {
+  PclCloud::Ptr c = to_pcl(in);
+  if (c->empty()) throw Error("cloud has no finite points");
+  const PclCloud::Ptr d = sample_and_filter(c, s, voxel);
   if (d->size() < 10) throw Error("fewer than 10 points left after filtering and downsampling");
-  // Normals from the points themselves (scan) — reference normals from CAD are kept but
-  // re-estimated too so both clouds see the same smoothing.
-  pcl::NormalEstimationOMP<PointT, PointT> ne(2);
-  ne.setInputCloud(d);
-  Tree::Ptr tree(new Tree);
-  ne.setSearchMethod(tree);
-  ne.setRadiusSearch(s.normal_radius_vox * voxel);
-  PclCloud::Ptr withn(new PclCloud(*d));
-  ne.compute(*withn);
+  const PclCloud::Ptr n = with_normals(d, d, s.normal_radius_vox * voxel, s, in.has_normals());
   PointCloud out;
-  for (size_t i = 0; i < withn->size(); ++i) {
-    const auto& p = (*withn)[i];
-    Eigen::Vector3f n = p.getNormalVector3fMap();
-    if (!n.allFinite()) continue;  // isolated point: no normal
-    if (s.use_viewpoint) {
-      if (n.dot(s.viewpoint.cast<float>() - p.getVector3fMap()) < 0) n = -n;
-    } else if (in.has_normals() && d->at(i).getNormalVector3fMap().dot(n) < 0) {
-      n = -n;  // keep the CAD's outward side (voxel-averaged normal)
-    }
+  for (const auto& p : *n) {
     out.points.push_back(p.getVector3fMap());
-    out.normals.push_back(n);
+    out.normals.push_back(p.getNormalVector3fMap());
   }
   out.width = static_cast<int>(out.points.size());
   out.height = 1;

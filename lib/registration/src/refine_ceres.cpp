@@ -2,7 +2,12 @@
 // reference point p (dense CAD samples), residual r = n . (T p - q) with the reference's exact
 // normal n rotated into the scan frame; robust loss (Huber / Cauchy / Tukey); analytic Jacobian
 // of the left perturbation T <- exp([w, v]) T:  d r / d[w, v] = [(Tp x n)^T, n^T].
-// Multi-scale: the correspondence gate shrinks 4x -> 2x -> 1x as the pose converges.
+// Multi-scale: the correspondence gate halves from max(4x, initial_gate_mm) down to 1x as the pose
+// converges.
+// The perturbation is taken about the matched points' centroid c, not the scan origin (which can
+// be half a metre away in the robot base frame): there a small rotation is also a large
+// translation, the two columns of the Jacobian are badly scaled, and a linearised step along a
+// weakly observed direction overshoots far outside the region where the linearisation holds.
 #include <ceres/ceres.h>
 
 #include "laserfit/core/error.hpp"
@@ -42,31 +47,24 @@ ceres::LossFunction* make_loss(const std::string& name, double scale) {
 RefineOutput refine_ceres(const RefineInput& in) {
   RefineOutput out;
   out.T = in.init;
-  std::vector<int> idx(1);
-  std::vector<float> d2(1);
-  for (const double scale : {4.0, 2.0, 1.0}) {
-    const double gate = scale * in.s.max_correspondence_vox * in.voxel;
+  const double fine = in.s.max_correspondence_vox * in.voxel;
+  std::vector<double> scales;  // coarse to fine, halving, from 4x the gate or the initial gate
+  for (double sc = std::max(4.0, in.s.initial_gate_mm / fine); sc > 1.0; sc /= 2) scales.push_back(sc);
+  scales.push_back(1.0);
+  for (const double scale : scales) {
+    const double gate = scale * fine;
     for (int it = 0; it < in.s.max_iterations; ++it, ++out.iterations) {
       ceres::Problem::Options po;
       po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
       ceres::Problem problem(po);
-      std::unique_ptr<ceres::LossFunction> loss(make_loss(in.s.robust_loss, in.s.robust_scale_vox * in.voxel));
+      std::unique_ptr<ceres::LossFunction> loss(make_loss(in.s.robust_loss, in.s.robust_scale_vox * scale * in.voxel));
       double delta[6] = {0, 0, 0, 0, 0, 0};
-      size_t used = 0;
-      const Pose to_ref = out.T.inverse();
-      const Eigen::Matrix3d R = out.T.rotation();
-      for (const auto& pt : *in.scan) {
-        const Eigen::Vector3d q = pt.getVector3fMap().cast<double>();
-        PointT query;
-        query.getVector3fMap() = (to_ref * q).cast<float>();
-        if (in.ref_tree->nearestKSearch(query, 1, idx, d2) < 1 || d2[0] > gate * gate) continue;
-        const auto& m = (*in.ref)[idx[0]];
-        problem.AddResidualBlock(new PointToPlane(out.T * m.getVector3fMap().cast<double>(), q,
-                                                  R * m.getNormalVector3fMap().cast<double>()),
-                                 loss.get(), delta);
-        ++used;
-      }
-      if (used < 6) break;  // cannot constrain six degrees of freedom
+      const auto M = match(*in.scan, *in.ref_tree, out.T, {gate, in.oriented});
+      if (M.size() < 6) break;  // cannot constrain six degrees of freedom
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (const auto& x : M) c += x.q;
+      c /= double(M.size());
+      for (const auto& x : M) problem.AddResidualBlock(new PointToPlane(x.p - c, x.q - c, x.n), loss.get(), delta);
       ceres::Solver::Options so;
       so.linear_solver_type = ceres::DENSE_QR;
       so.max_num_iterations = 10;
@@ -74,9 +72,9 @@ RefineOutput refine_ceres(const RefineInput& in) {
       ceres::Solver::Summary summary;
       ceres::Solve(so, &problem, &summary);
       const Eigen::Map<const Eigen::Vector3d> w(delta), v(delta + 3);
-      Pose step = Pose::Identity();
+      Pose step = Pose::Identity();  // x -> exp(w) (x - c) + c + v
       if (w.norm() > 0) step.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
-      step.translation() = v;
+      step.translation() = c - step.linear() * c + v;
       out.T = step * out.T;
       // Largest displacement of a point 10 voxels out: the update is negligible below this.
       if (v.norm() + w.norm() * 10 * in.voxel < in.s.convergence_mm) break;

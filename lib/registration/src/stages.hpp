@@ -7,6 +7,16 @@
 
 namespace laserfit::registration {
 
+// Pre-processing pieces (preprocess.cpp). sample_and_filter: one real point per voxel, then
+// statistical outlier removal. with_normals: normals of `cloud` from its neighbours in `surface`
+// within `radius`, points without one dropped, oriented towards the viewpoint (s.use_viewpoint)
+// or to the side of the normal each point carried (keep_side). coarser: the voxel-grid cloud
+// of the RANSAC stage with normals from the fine cloud.
+PclCloud::Ptr sample_and_filter(const PclCloud::Ptr& c, const PreprocessSettings& s, double voxel);
+PclCloud::Ptr with_normals(const PclCloud::Ptr& cloud, const PclCloud::Ptr& surface, double radius,
+                           const PreprocessSettings& s, bool keep_side);
+PclCloud::Ptr coarser(const PclCloud::Ptr& fine, double cvox, const PreprocessSettings& s, bool keep_side);
+
 using Features = pcl::PointCloud<pcl::FPFHSignature33>;
 Features::Ptr fpfh(const PclCloud::Ptr& cloud, double radius_mm);
 
@@ -16,6 +26,25 @@ bool coarse_align(const PclCloud::Ptr& ref, const Features::Ptr& ref_f, const Pc
                   const Features::Ptr& scan_f, const CoarseSettings& s, double voxel, uint64_t seed,
                   Pose& T_scan_ref);
 
+// Correspondences for a pose T (scan frame): each scan point q with its nearest reference point,
+// kept when within `gate` and, when the scan normals face the sensor, when the reference normal
+// does not face away from it: that drops matches through a thin wall (the far side of a 0.35 mm
+// USB shell). Matches across an edge are kept: they are what penalises sliding along a face.
+struct Match {
+  Eigen::Vector3d p, q, n;  // model point T*m, scan point, model normal R*n_m (scan frame)
+};
+struct Matcher {
+  double gate = 0;          // mm
+  bool oriented = false;    // scan normals face the sensor and reference normals face outwards
+};
+std::vector<Match> match(const PclCloud& scan, const Tree& ref_tree, const Pose& T, const Matcher& m);
+
+// The same with the orientation gate applied to every hypothesis (coarse_gated.cpp); without q0
+// it is plain RANSAC over FPFH correspondences.
+bool coarse_align_gated(const PclCloud::Ptr& ref, const Features::Ptr& ref_f, const PclCloud::Ptr& scan,
+                        const Features::Ptr& scan_f, const CoarseSettings& s, double voxel, uint64_t seed,
+                        const std::optional<Eigen::Quaterniond>& q0, double rho_rot_deg, Pose& T_scan_ref);
+
 // Refinement (Algorithm 1, line 6) with the named variant.
 struct RefineInput {
   PclCloud::Ptr ref, scan;     // ref: dense CAD samples with their exact normals
@@ -23,6 +52,7 @@ struct RefineInput {
   Pose init;
   double voxel;
   const RefineSettings& s;
+  bool oriented;  // see Matcher
 };
 struct RefineOutput {
   Pose T = Pose::Identity();
@@ -47,15 +77,15 @@ struct Fit {
   double fitness_mm2 = 0, rmse_mm = 0, overlap = 0;
   size_t inliers = 0;
 };
-Fit evaluate(const PclCloud& scan, const Tree& ref_tree, const Pose& T_scan_ref, double gate_mm);
+Fit evaluate(const PclCloud& scan, const Tree& ref_tree, const Pose& T_scan_ref, const Matcher& m);
 // The point-to-plane normal equations at pose T (scaled Hessian H, residual sum, RMS radius L).
 struct PlaneSystem {
   Matrix6d H = Matrix6d::Zero();
   double residual2 = 0, L = 1;
   size_t n = 0;
 };
-PlaneSystem plane_system(const PclCloud& scan, const Tree& ref_tree, const Pose& T, double gate_mm);
-void assess(const PclCloud& scan, const Tree& ref_tree, double gate_mm, const TrustSettings& t,
+PlaneSystem plane_system(const PclCloud& scan, const Tree& ref_tree, const Pose& T, const Matcher& m);
+void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const TrustSettings& t,
             double voxel, RegistrationResult& r);
 
 }  // namespace laserfit::registration

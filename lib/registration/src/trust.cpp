@@ -8,68 +8,64 @@
 
 namespace laserfit::registration {
 
-Fit evaluate(const PclCloud& scan, const Tree& ref_tree, const Pose& T, double gate) {
-  Fit f;
-  f.fitness_mm2 = f.rmse_mm = std::numeric_limits<double>::infinity();
-  if (!T.matrix().allFinite()) return f;
+std::vector<Match> match(const PclCloud& scan, const Tree& ref_tree, const Pose& T, const Matcher& m) {
+  std::vector<Match> out;
+  out.reserve(scan.size());
+  if (!T.matrix().allFinite()) return out;
   const Pose to_ref = T.inverse();
+  const Eigen::Matrix3d R = T.rotation();
   std::vector<int> idx(1);
   std::vector<float> d2(1);
-  double sum = 0;
   for (const auto& pt : scan) {
-    const Eigen::Vector3d p = to_ref * pt.getVector3fMap().cast<double>();
-    PointT q;
-    q.getVector3fMap() = p.cast<float>();
-    if (ref_tree.nearestKSearch(q, 1, idx, d2) < 1 || d2[0] > gate * gate) continue;
-    const auto& m = ref_tree.getInputCloud()->at(idx[0]);
-    sum += std::pow(m.getNormalVector3fMap().cast<double>().dot(p - m.getVector3fMap().cast<double>()), 2);
-    ++f.inliers;
+    const Eigen::Vector3d q = pt.getVector3fMap().cast<double>();
+    PointT query;
+    query.getVector3fMap() = (to_ref * q).cast<float>();
+    if (ref_tree.nearestKSearch(query, 1, idx, d2) < 1 || d2[0] > m.gate * m.gate) continue;
+    const auto& r = ref_tree.getInputCloud()->at(idx[0]);
+    const Eigen::Vector3d n = R * r.getNormalVector3fMap().cast<double>();
+    if (m.oriented && pt.getNormalVector3fMap().cast<double>().dot(n) < 0) continue;
+    out.push_back({T * r.getVector3fMap().cast<double>(), q, n});
   }
+  return out;
+}
+
+Fit evaluate(const PclCloud& scan, const Tree& ref_tree, const Pose& T, const Matcher& m) {
+  Fit f;
+  f.fitness_mm2 = f.rmse_mm = std::numeric_limits<double>::infinity();
+  const auto M = match(scan, ref_tree, T, m);
+  double sum = 0;
+  for (const auto& x : M) sum += std::pow(x.n.dot(x.p - x.q), 2);
+  f.inliers = M.size();
   f.overlap = scan.empty() ? 0 : double(f.inliers) / scan.size();
-  f.fitness_mm2 = f.inliers ? sum / f.inliers : std::numeric_limits<double>::infinity();
-  f.rmse_mm = std::sqrt(f.fitness_mm2);
+  if (f.inliers) f.fitness_mm2 = sum / f.inliers, f.rmse_mm = std::sqrt(f.fitness_mm2);
   return f;
 }
 
-PlaneSystem plane_system(const PclCloud& scan, const Tree& ref_tree, const Pose& T, double gate) {
+PlaneSystem plane_system(const PclCloud& scan, const Tree& ref_tree, const Pose& T, const Matcher& m) {
   // Point-to-plane Hessian over the matched scan points, with the reference's (CAD) normals,
   // about the matched points' centroid (so rotation and translation decouple); rotations scaled
   // by the RMS radius L to make the six directions comparable. All in the scan frame.
   PlaneSystem sys;
-  const Pose to_ref = T.inverse();
-  const Eigen::Matrix3d R = T.rotation();
-  std::vector<Eigen::Vector3d> P, N;
-  std::vector<int> idx(1);
-  std::vector<float> d2(1);
-  for (const auto& pt : scan) {
-    const Eigen::Vector3d p = pt.getVector3fMap().cast<double>();
-    PointT q;
-    q.getVector3fMap() = (to_ref * p).cast<float>();
-    if (ref_tree.nearestKSearch(q, 1, idx, d2) < 1 || d2[0] > gate * gate) continue;
-    const auto& m = ref_tree.getInputCloud()->at(idx[0]);
-    const Eigen::Vector3d n = R * m.getNormalVector3fMap().cast<double>();
-    sys.residual2 += std::pow(n.dot(p - T * m.getVector3fMap().cast<double>()), 2);
-    P.push_back(p), N.push_back(n);
-  }
-  sys.n = P.size();
+  const auto M = match(scan, ref_tree, T, m);
+  sys.n = M.size();
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  for (const auto& p : P) c += p;
+  for (const auto& x : M) c += x.q, sys.residual2 += std::pow(x.n.dot(x.q - x.p), 2);
   c /= std::max<size_t>(sys.n, 1);
   double L2 = 0;
-  for (const auto& p : P) L2 += (p - c).squaredNorm();
+  for (const auto& x : M) L2 += (x.q - c).squaredNorm();
   sys.L = std::max(std::sqrt(L2 / std::max<size_t>(sys.n, 1)), 1e-9);
-  for (size_t i = 0; i < sys.n; ++i) {
+  for (const auto& x : M) {
     Vector6d J;
-    J << (P[i] - c).cross(N[i]) / sys.L, N[i];
+    J << (x.q - c).cross(x.n) / sys.L, x.n;
     sys.H += J * J.transpose();
   }
   return sys;
 }
 
-void assess(const PclCloud& scan, const Tree& ref_tree, double gate, const TrustSettings& t,
+void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const TrustSettings& t,
             double voxel, RegistrationResult& r) {
   // One pass over the scan gives both the fit statistics and the normal equations.
-  const PlaneSystem sys = plane_system(scan, ref_tree, r.T_scan_ref, gate);
+  const PlaneSystem sys = plane_system(scan, ref_tree, r.T_scan_ref, m);
   Fit f;
   f.inliers = sys.n;
   f.overlap = scan.empty() ? 0 : double(sys.n) / scan.size();

@@ -27,11 +27,13 @@ struct PreprocessSettings {
 };
 
 struct CoarseSettings {
-  double voxel_factor = 3.0;         // features and RANSAC run on a grid this much coarser
+  std::string method = "gated";      // gated: rho_rot tested on every RANSAC hypothesis;
+                                     // pcl: PCL SampleConsensusPrerejective, gate on its result
+  double voxel_factor = 2.0;         // features and RANSAC run on a grid this much coarser
   double feature_radius_vox = 6.0;   // FPFH radius, in voxels
   int ransac_iterations = 10000;     // SampleConsensusPrerejective iterations per attempt
   int samples = 3;                   // correspondences per hypothesis
-  int correspondence_randomness = 5; // k nearest features to pick from
+  int correspondence_randomness = 10;// k nearest features to pick from
   double similarity = 0.85;          // edge-length similarity for pre-rejection (0..1)
   double inlier_fraction = 0.25;     // of the (segmented) scan, for a hypothesis to be accepted
   double max_correspondence_vox = 2.5;
@@ -40,10 +42,12 @@ struct CoarseSettings {
 struct RefineSettings {
   std::string method = "ceres";           // see refiner_names(); "paper": PCL point-to-point ICP
   double max_correspondence_vox = 2.0;    // ICP correspondence gate, in voxels
-  int max_iterations = 150;               // per scale (ceres) / in total (PCL variants)
-  double convergence_mm = 1e-5;           // stop when the update moves points less than this
+  double initial_gate_mm = 1.0;           // ceres: first gate at least this (a prior's error)
+  int max_iterations = 60;                // per scale (ceres) / in total (PCL variants)
+  double convergence_mm = 1e-4;           // stop when the update moves points less than this
   std::string robust_loss = "huber";      // ceres: huber | cauchy | tukey | none
-  double robust_scale_vox = 0.5;          // ceres: robust loss scale, in voxels
+  double robust_scale_vox = 0.1;          // ceres: robust loss scale at the finest gate, in voxels
+                                          // (x4, x2 at the coarser gates)
 };
 
 struct TrustSettings {
@@ -52,6 +56,8 @@ struct TrustSettings {
   double ambiguity_ratio = 1e-3;    // Hessian eigenvalue ratio (scaled) below -> ambiguous
   double restart_agreement_mm = 0.05;   // restarts with equal fitness must agree this well
   double restart_agreement_deg = 1.0;
+  double polish_mm = 0.02;          // a robust point-to-plane polish of the final pose must move
+  double polish_deg = 0.2;          // it less than this, else failed (non-Ceres refiners)
 };
 
 struct RegistrationSettings {
@@ -63,7 +69,8 @@ struct RegistrationSettings {
   double rho_icp_vox2 = 0.05;       // stop when ICP fitness (mean squared distance) < rho * voxel^2
   double rho_rot_deg = 30.0;        // reject RANSAC poses farther than this from q0
   std::optional<Eigen::Quaterniond> q0;  // prior orientation of the reference in the scan frame
-  std::optional<Pose> prior;        // full prior pose: skips RANSAC when given with skip_coarse
+  std::optional<Pose> prior;        // prior pose (e.g. from the arm's kinematics): the first
+                                    // hypothesis, then RANSAC; refinement only with skip_coarse
   bool skip_coarse = false;
   int max_attempts = 8;             // RANSAC + ICP rounds before giving up
   uint64_t seed = 1;
@@ -85,6 +92,7 @@ struct RegistrationResult {
   Vector6d weakest_direction = Vector6d::Zero();
   double voxel_mm = 0;
   std::map<std::string, double> timings_s;  // per stage
+  std::vector<std::string> log;             // one line per attempt and decision
 };
 
 // Registers `scan` (organized or not, NaN allowed) against `ref` (with normals).
@@ -100,8 +108,9 @@ std::vector<std::string> refiner_names();
 std::vector<PointCloud> segment_clusters(const PointCloud& scan, double voxel_mm, double tolerance_mm,
                                          size_t min_points = 50);
 
-// Registers `ref` against each of the largest `max_clusters` parts of the scan and returns the
-// best (ok before ambiguous before failed, then lowest fitness); `cluster` receives its index.
+// Registers `ref` against up to `max_clusters` parts of the scan — nearest the prior first when
+// there is one, else largest first — stopping at the first `ok`; returns the best (ok before
+// ambiguous before failed, then lowest fitness); `cluster` receives its index.
 RegistrationResult register_segmented(const PointCloud& scan, const PointCloud& ref,
                                       const RegistrationSettings& settings, int max_clusters = 4,
                                       int* cluster = nullptr);
