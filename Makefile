@@ -11,14 +11,22 @@ DEB_PACKAGES := cmake ninja-build ccache g++ pkg-config \
   libeigen3-dev libpcl-dev libflann-dev libembree-dev libcgal-dev libassimp-dev libceres-dev \
   libocct-data-exchange-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev \
   libocct-foundation-dev libyaml-cpp-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev \
-  nlohmann-json3-dev libcli11-dev python3 python3-numpy python3-open3d
+  nlohmann-json3-dev libcli11-dev
+# Only for the Open3D baseline of `make bench-registration` (large; not needed to build or test).
+BENCH_PACKAGES := python3 python3-numpy python3-open3d
 
-.PHONY: all deps configure build test demo cad bench bench-cad bench-scan bench-registration clean format
+.PHONY: all deps deps-bench install-packages configure build test demo cad bench bench-cad bench-scan bench-registration clean format
 
 all: build
 
 deps:
-	@missing=$$(for p in $(DEB_PACKAGES); do \
+	@$(MAKE) --no-print-directory install-packages PACKAGES="$(DEB_PACKAGES)"
+
+deps-bench:
+	@$(MAKE) --no-print-directory install-packages PACKAGES="$(BENCH_PACKAGES)"
+
+install-packages:
+	@missing=$$(for p in $(PACKAGES); do \
 	  dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || echo $$p; \
 	done); \
 	if [ -n "$$missing" ]; then \
@@ -69,7 +77,7 @@ bench-scan: build
 TRIALS ?= 0
 METHODS ?= ceres,point_to_plane,point_to_point,gicp,ndt,paper
 REG_OUT := reports/registration
-bench-registration: build
+bench-registration: build deps-bench
 	@mkdir -p $(REG_OUT) out/registration_dump
 	$(BIN)/registration_campaign benchmarks/registration.yaml --trials $(TRIALS) --methods $(METHODS) \
 	  --out $(REG_OUT) --dump out/registration_dump --dump-trials 50
