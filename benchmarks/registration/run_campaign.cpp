@@ -104,6 +104,8 @@ int main(int argc, char** argv) {
   app.add_option("--out", out, "output directory (results.jsonl)")->capture_default_str();
   app.add_option("--dump", dump, "write target scans, references and ground truth here (Open3D baseline)");
   app.add_option("--dump-trials", dump_trials, "how many trials per scene to dump")->capture_default_str();
+  bool full_scans = false;
+  app.add_flag("--dump-full-scans", full_scans, "also dump each dumped trial's whole scan (large)");
   CLI11_PARSE(app, argc, argv);
   try {
     campaign::Campaign c = campaign::load_campaign(file);
@@ -152,6 +154,7 @@ int main(int argc, char** argv) {
                 mine.width = int(mine.points.size());
                 const std::string f = sc.name + "_" + tg.object + "_" + std::to_string(i) + ".pcd";
                 io::write_cloud(dump + "/" + f, mine);
+                if (k == 0 && full_scans) io::write_cloud(dump + "/" + sc.name + "_scan_" + std::to_string(i) + ".pcd", scan.cloud);
                 dumps[i].push_back({{"scene", sc.name}, {"object", tg.object}, {"trial", i}, {"scan", f},
                                     {"ref", sc.name + "_" + tg.object + "_ref.pcd"}, {"T_gt", io::pose_to_json(gt)},
                                     {"q0", io::pose_to_json(nominal[k])}, {"symmetry", tg.symmetry.describe()},

@@ -197,11 +197,54 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
   return r;
 }
 
-RegistrationResult register_segmented(const PointCloud& scan, const PointCloud& ref,
+PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& T_scan_ref, double radius) {
+  PclCloud::Ptr placed(new PclCloud);
+  Eigen::AlignedBox3f box;
+  for (const auto& p : ref.points) {
+    if (!p.allFinite()) continue;
+    PointT q;
+    q.getVector3fMap() = (T_scan_ref * p.cast<double>()).cast<float>();
+    placed->push_back(q);
+    box.extend(q.getVector3fMap());
+  }
+  PointCloud out;
+  out.metadata = scan.metadata;
+  if (placed->empty()) return out;
+  box.min().array() -= float(radius), box.max().array() += float(radius);
+  Tree tree;
+  tree.setInputCloud(placed);
+  std::vector<int> idx(1);
+  std::vector<float> d2(1);
+  const bool labels = !scan.labels.empty();
+  for (size_t i = 0; i < scan.points.size(); ++i) {
+    const auto& p = scan.points[i];
+    if (!p.allFinite() || !box.contains(p)) continue;
+    PointT q;
+    q.getVector3fMap() = p;
+    if (tree.nearestKSearch(q, 1, idx, d2) < 1 || d2[0] > radius * radius) continue;
+    out.points.push_back(p);
+    if (labels) out.labels.push_back(scan.labels[i]);
+  }
+  out.width = int(out.points.size());
+  out.height = 1;
+  return out;
+}
+
+RegistrationResult register_segmented(const PointCloud& scan_in, const PointCloud& ref,
                                       const RegistrationSettings& s, int max_clusters, int* cluster) {
+  PointCloud scan = scan_in;
+  remove_mixed_pixels(scan);
   const double voxel = s.pre.voxel_mm > 0 ? s.pre.voxel_mm : auto_voxel_mm(ref);
-  // Parts further apart than 3 voxels are separate; a part needs at least a few dozen voxels.
-  const auto parts = segment_clusters(scan, voxel, 3 * voxel, 50);
+  // Parts further apart than 3 voxels are separate; a part needs at least 20 voxels (a 0.15 mm
+  // thread tip seen over a millimetre is a few dozen).
+  auto parts = segment_clusters(scan, voxel, 3 * voxel, 20);
+  // With a prior, the scan points near the reference placed at the prior form one more candidate:
+  // a sparse part (a thin thread seen along its length) falls apart into clusters too small to
+  // keep, but it is where the arm says it is.
+  if (s.prior) {
+    PointCloud near = crop_near(scan, ref, *s.prior, s.prior_radius_mm);
+    if (near.points.size() >= 10) parts.insert(parts.begin(), std::move(near));
+  }
   if (parts.empty()) throw Error("no part of the scan is large enough to register");
   // Try the parts nearest the prior first (where the arm believes the object is), else the
   // largest first; stop at the first one that registers ok.
@@ -225,7 +268,9 @@ RegistrationResult register_segmented(const PointCloud& scan, const PointCloud& 
     const int i = order[k];
     if (parts[i].points.size() < 10) continue;
     RegistrationResult r = register_cloud(parts[i], ref, s);
-    if (best_i < 0 || rank(r) < rank(best) || (rank(r) == rank(best) && r.fitness_mm2 < best.fitness_mm2))
+    // Equal ranks: with a prior the earlier (nearer) part wins — a thread registered onto the
+    // needle's shaft fits as well as onto the thread; without one, the lower fitness.
+    if (best_i < 0 || rank(r) < rank(best) || (rank(r) == rank(best) && !s.prior && r.fitness_mm2 < best.fitness_mm2))
       best = std::move(r), best_i = i;
     if (best.status == Status::Ok) break;
   }

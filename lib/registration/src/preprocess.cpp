@@ -5,6 +5,9 @@
 #include <pcl/filters/uniform_sampling.h>
 #include <pcl/filters/voxel_grid.h>
 
+#include <algorithm>
+#include <limits>
+
 #include "laserfit/core/error.hpp"
 #include "pcl_types.hpp"
 #include "stages.hpp"
@@ -91,6 +94,32 @@ PclCloud::Ptr coarser(const PclCloud::Ptr& fine, double cvox, const PreprocessSe
   PclCloud::Ptr d(new PclCloud);
   vg.filter(*d);  // averages the normals too: their side is kept for keep_side
   return with_normals(d, fine, s.normal_radius_vox * cvox, s, keep_side);
+}
+
+size_t remove_mixed_pixels(PointCloud& c, double factor) {
+  const size_t W = size_t(std::max(c.width, 0)), H = size_t(std::max(c.height, 0));
+  if (H < 2 || W < 3 || W * H != c.points.size()) return 0;
+  auto gap = [&](size_t i, size_t j) {
+    const auto &a = c.points[i], &b = c.points[j];
+    return a.allFinite() && b.allFinite() ? (a - b).norm() : std::numeric_limits<float>::infinity();
+  };
+  std::vector<float> d;  // in-profile spacing, sampled
+  for (size_t i = 0; i + 1 < c.points.size(); i += 7)
+    if ((i + 1) % W != 0 && std::isfinite(gap(i, i + 1))) d.push_back(gap(i, i + 1));
+  if (d.empty()) return 0;
+  std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+  const float limit = float(factor) * d[d.size() / 2];
+  std::vector<size_t> drop;
+  for (size_t r = 0; r < H; ++r)
+    for (size_t x = 0; x < W; ++x) {
+      const size_t i = r * W + x;
+      if (!c.points[i].allFinite()) continue;
+      const float l = x > 0 ? gap(i, i - 1) : std::numeric_limits<float>::infinity();
+      const float rr = x + 1 < W ? gap(i, i + 1) : std::numeric_limits<float>::infinity();
+      if (std::min(l, rr) > limit) drop.push_back(i);
+    }
+  for (size_t i : drop) c.points[i] = Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
+  return drop.size();
 }
 
 PointCloud preprocess(const PointCloud& in, const PreprocessSettings& s, double voxel) {

@@ -34,6 +34,25 @@ class PointToPlane final : public ceres::SizedCostFunction<1, 6> {
   Eigen::Vector3d p_, q_, n_;
 };
 
+// Damping of the update (Tikhonov): w_rot * L * w and w_trans * v as extra residuals. Tiny next to
+// the data along observed directions, it keeps the step finite along unobserved ones (the spin
+// of a thread about its own axis), where the least-squares step is otherwise arbitrary.
+class Damping final : public ceres::SizedCostFunction<6, 6> {
+ public:
+  Damping(double weight, double L) : w_(weight), L_(L) {}
+  bool Evaluate(double const* const* x, double* r, double** J) const override {
+    for (int k = 0; k < 6; ++k) r[k] = w_ * (k < 3 ? L_ : 1.0) * x[0][k];
+    if (J && J[0]) {
+      for (int k = 0; k < 36; ++k) J[0][k] = 0;
+      for (int k = 0; k < 6; ++k) J[0][k * 6 + k] = w_ * (k < 3 ? L_ : 1.0);
+    }
+    return true;
+  }
+
+ private:
+  double w_, L_;
+};
+
 ceres::LossFunction* make_loss(const std::string& name, double scale) {
   if (name == "huber") return new ceres::HuberLoss(scale);
   if (name == "cauchy") return new ceres::CauchyLoss(scale);
@@ -64,7 +83,13 @@ RefineOutput refine_ceres(const RefineInput& in) {
       Eigen::Vector3d c = Eigen::Vector3d::Zero();
       for (const auto& x : M) c += x.q;
       c /= double(M.size());
-      for (const auto& x : M) problem.AddResidualBlock(new PointToPlane(x.p - c, x.q - c, x.n), loss.get(), delta);
+      double L2 = 0;
+      for (const auto& x : M) {
+        problem.AddResidualBlock(new PointToPlane(x.p - c, x.q - c, x.n), loss.get(), delta);
+        L2 += (x.q - c).squaredNorm();
+      }
+      problem.AddResidualBlock(new Damping(1e-3 * std::sqrt(double(M.size())), std::sqrt(L2 / double(M.size()))),
+                               nullptr, delta);
       ceres::Solver::Options so;
       so.linear_solver_type = ceres::DENSE_QR;
       so.max_num_iterations = 10;

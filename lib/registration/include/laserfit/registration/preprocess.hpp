@@ -9,6 +9,13 @@ namespace laserfit::registration {
 // towards the viewpoint when asked, else towards the input's own normals).
 PointCloud preprocess(const PointCloud& in, const PreprocessSettings& s, double voxel_mm);
 
+// Mixed pixels: on an organized scan (rows = profiles), a point farther than `factor` times the
+// median in-profile spacing from both of its profile neighbours sits in a depth jump (half
+// foreground, half background) or is a lone outlier; it is set to NaN. Such points form veils
+// that bridge separate parts (a thread tip and the needle behind it) and defeat segmentation.
+// Returns the number removed; unorganized clouds are left alone.
+size_t remove_mixed_pixels(PointCloud& scan, double factor = 4.0);
+
 // Auto voxel size for a reference: its bounding-box diagonal / 150.
 double auto_voxel_mm(const PointCloud& ref);
 

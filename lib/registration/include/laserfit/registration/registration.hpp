@@ -72,6 +72,8 @@ struct RegistrationSettings {
   std::optional<Pose> prior;        // prior pose (e.g. from the arm's kinematics): the first
                                     // hypothesis, then RANSAC; refinement only with skip_coarse
   bool skip_coarse = false;
+  double prior_radius_mm = 1.0;     // segmentation: scan points this near the reference placed
+                                    // at the prior are a candidate part (the prior's error)
   int max_attempts = 8;             // RANSAC + ICP rounds before giving up
   uint64_t seed = 1;
 };
@@ -108,8 +110,12 @@ std::vector<std::string> refiner_names();
 std::vector<PointCloud> segment_clusters(const PointCloud& scan, double voxel_mm, double tolerance_mm,
                                          size_t min_points = 50);
 
-// Registers `ref` against up to `max_clusters` parts of the scan — nearest the prior first when
-// there is one, else largest first — stopping at the first `ok`; returns the best (ok before
+// The scan points within `radius_mm` of `ref` placed at `T_scan_ref` (unorganized).
+PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& T_scan_ref, double radius_mm);
+
+// Registers `ref` against up to `max_clusters` parts of the scan — with a prior, first the points
+// near the reference placed there (crop_near), then the clusters nearest it; else the largest
+// first — stopping at the first `ok`; returns the best (ok before
 // ambiguous before failed, then lowest fitness); `cluster` receives its index.
 RegistrationResult register_segmented(const PointCloud& scan, const PointCloud& ref,
                                       const RegistrationSettings& settings, int max_clusters = 4,
