@@ -15,7 +15,7 @@ DEB_PACKAGES := cmake ninja-build ccache g++ pkg-config \
 # Only for the Open3D baseline of `make bench-registration` (large; not needed to build or test).
 BENCH_PACKAGES := python3 python3-numpy python3-open3d
 
-.PHONY: all deps deps-bench install-packages configure build test demo cad bench bench-cad bench-scan bench-registration clean format
+.PHONY: all deps deps-bench install-packages configure build test demo cad bench bench-cad bench-scan bench-registration bench-registration-speed clean format
 
 all: build
 
@@ -77,13 +77,19 @@ bench-scan: build
 TRIALS ?= 0
 METHODS ?= ceres,point_to_plane,point_to_point,gicp,ndt,paper
 REG_OUT := reports/registration
-bench-registration: build deps-bench
+bench-registration: build deps-bench bench-registration-speed
 	@mkdir -p $(REG_OUT) out/registration_dump
 	$(BIN)/registration_campaign benchmarks/registration.yaml --trials $(TRIALS) --methods $(METHODS) \
 	  --out $(REG_OUT) --dump out/registration_dump --dump-trials 50
 	/usr/bin/python3 benchmarks/registration/open3d_baseline.py out/registration_dump $(REG_OUT)/open3d.jsonl
 	/usr/bin/python3 benchmarks/registration/summarize.py $(REG_OUT)/results.jsonl $(REG_OUT)/open3d.jsonl \
 	  | tee $(REG_OUT)/table.md
+
+# Registration speed on a 1 M-point scan (Google Benchmark, run on an otherwise idle machine).
+bench-registration-speed: build
+	@mkdir -p $(REG_OUT)
+	$(BIN)/bench_registration --benchmark_out=$(REG_OUT)/bench_registration.json --benchmark_out_format=json \
+	  --benchmark_counters_tabular=true | tee $(REG_OUT)/bench_registration.txt
 
 bench: bench-cad bench-scan bench-registration
 

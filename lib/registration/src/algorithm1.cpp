@@ -183,14 +183,20 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
   if (r.status == Status::Ok) {
     // Equally good refined poses that disagree: a symmetry or a repeated structure, not a pose.
     for (const auto& c : good)
-      if (!agree(c.T, best.T, s.trust) && c.fit.overlap > 0.9 * best.fit.overlap) {
+      // "Equally good": nearly the same overlap and fitness. A pose that leaves a few percent of
+      // the scan unexplained (a hole matched to the wrong hole) is not a rival, just worse.
+      if (!agree(c.T, best.T, s.trust) && c.fit.overlap >= 0.98 * best.fit.overlap &&
+          c.fit.fitness_mm2 <= 1.5 * best.fit.fitness_mm2) {
         r.status = Status::Ambiguous;
         r.reason = "attempts converged to different poses with equal fit (symmetric part?)";
         break;
       }
-    if (r.status == Status::Ok && coarse && good.size() < 2 && s.max_attempts >= 2) {
+    size_t confirming = 0;  // converged attempts that agree with the best (itself included)
+    for (const auto& c : good) confirming += agree(c.T, best.T, s.trust);
+    if (r.status == Status::Ok && coarse && confirming < 2 && s.max_attempts >= 2) {
       r.status = Status::Failed;
-      r.reason = "no second attempt confirmed the pose (fitness below rho_ICP only once)";
+      r.reason = "no second attempt confirmed the pose (" + std::to_string(good.size()) +
+                 " converged, none agreeing with the best)";
     }
   }
   r.timings_s["assess"] = since(t);

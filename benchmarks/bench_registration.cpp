@@ -1,0 +1,67 @@
+// Registration speed on a 1 M-point scan (issue 4 target: median <= 1.5 s on 2 cores): the
+// shipped USB scene, cut to its first profiles holding 1 M valid points, the plug registered with
+// the default settings (ceres, gated RANSAC, the nominal pose as prior, segmentation on).
+// Run: make bench-registration-speed -> reports/registration/.
+#include <benchmark/benchmark.h>
+
+#include "laserfit/registration/registration.hpp"
+#include "laserfit/sampling/sampling.hpp"
+#include "laserfit/scan/scanner.hpp"
+
+using namespace laserfit;
+
+namespace {
+
+struct Fixture {
+  PointCloud scan, ref;
+  Pose nominal;
+  Eigen::Vector3d viewpoint;
+};
+
+const Fixture& fixture() {
+  static const Fixture f = [] {
+    Fixture x;
+    const auto scene = scan::load_scene(std::string(LASERFIT_SOURCE_DIR) + "/datasets/scenes/usb_socket.yaml");
+    const auto r = scan::simulate_scan(scene);
+    // Whole profiles until 1 M valid points: an organized 1 M-point scan.
+    const size_t W = size_t(r.cloud.width);
+    size_t valid = 0, rows = 0;
+    while (rows < size_t(r.cloud.height) && valid < 1000000) {
+      for (size_t j = 0; j < W; ++j) valid += r.cloud.points[rows * W + j].allFinite();
+      ++rows;
+    }
+    x.scan = r.cloud;
+    x.scan.points.resize(rows * W), x.scan.labels.resize(rows * W), x.scan.height = int(rows);
+    const auto& plug = scene.objects[1];
+    x.nominal = plug.T_base_object;
+    sampling::ViewSettings v;
+    v.T_mesh_sensor.push_back(plug.T_base_object.inverse() * r.T_base_sensor_nominal[r.cloud.height / 2]);
+    v.geometry = scene.settings.sensor;
+    sampling::SamplingSettings s;
+    s.count = 60000;
+    x.ref = sampling::sample_visible(plug.mesh, v, s);
+    x.viewpoint = r.T_base_sensor_nominal[r.cloud.height / 2].translation();
+    return x;
+  }();
+  return f;
+}
+
+void BM_RegisterPlug1M(benchmark::State& st) {
+  const Fixture& f = fixture();
+  registration::RegistrationSettings s;
+  s.prior = f.nominal;
+  s.q0 = Eigen::Quaterniond(f.nominal.rotation());
+  s.pre.use_viewpoint = true, s.pre.viewpoint = f.viewpoint;
+  registration::RegistrationResult r;
+  for (auto _ : st) r = registration::register_segmented(f.scan, f.ref, s);
+  size_t valid = 0;
+  for (const auto& p : f.scan.points) valid += p.allFinite();
+  st.counters["scan_pts"] = double(valid);
+  st.counters["ok"] = r.status == registration::Status::Ok;
+  for (const auto& [k, v] : r.timings_s) st.counters[k + "_s"] = v;
+}
+BENCHMARK(BM_RegisterPlug1M)->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
+
+}  // namespace
+
+BENCHMARK_MAIN();
