@@ -5,6 +5,7 @@
 
 #include "laserfit/cad/import.hpp"
 #include "laserfit/core/error.hpp"
+#include "laserfit/registration/preprocess.hpp"
 #include "laserfit/registration/registration.hpp"
 #include "laserfit/sampling/sampling.hpp"
 #include "laserfit/scan/scanner.hpp"
@@ -211,4 +212,37 @@ TEST(Registration, RefusesUnusableInput) {
   reg::RegistrationSettings bad;
   bad.refine.method = "magic";
   EXPECT_THROW(reg::register_cloud(ref, ref, bad), Error);
+}
+
+TEST(Registration, MixedPixelsAreRemovedFromOrganizedScans) {
+  // Three profiles of a flat floor (12 um pitch); in the middle one, a point half-way up a
+  // 2 mm depth jump (a mixed pixel) must go, and nothing else.
+  const int W = 200;
+  PointCloud c;
+  c.width = W, c.height = 3;
+  for (int r = 0; r < 3; ++r)
+    for (int x = 0; x < W; ++x) c.points.emplace_back(0.012f * x, 0.01f * r, 0.0f);
+  c.points[W + 100].z() = 1.0f;
+  PointCloud unorganized = c;
+  unorganized.width = 3 * W, unorganized.height = 1;
+  EXPECT_EQ(reg::remove_mixed_pixels(c), 1u);
+  EXPECT_FALSE(c.points[W + 100].allFinite());
+  EXPECT_TRUE(c.points[W + 99].allFinite() && c.points[W + 101].allFinite());
+  EXPECT_EQ(reg::remove_mixed_pixels(unorganized), 0u);  // no profile structure: left alone
+}
+
+TEST(Registration, CropNearThePriorKeepsOnlyPointsWithinTheRadius) {
+  PointCloud ref;
+  for (int i = 0; i <= 100; ++i) ref.points.emplace_back(0.04f * i, 0.0f, 0.0f);  // a 4 mm rod
+  Pose prior = Pose::Identity();
+  prior.translation() = Eigen::Vector3d(10, 0, 0);
+  PointCloud scan;
+  scan.points = {{11.0f, 0.5f, 0.0f}, {12.0f, 0.0f, 0.99f}, {11.0f, 0.0f, 1.01f}, {20.0f, 0.0f, 0.0f},
+                 {9.5f, 0.0f, 0.0f}};
+  scan.width = 5;
+  const PointCloud near = reg::crop_near(scan, ref, prior, 1.0);
+  ASSERT_EQ(near.points.size(), 3u);  // within 1 mm of the rod placed at x = 10..14
+  EXPECT_FLOAT_EQ(near.points[0].y(), 0.5f);
+  EXPECT_FLOAT_EQ(near.points[1].z(), 0.99f);
+  EXPECT_FLOAT_EQ(near.points[2].x(), 9.5f);
 }
