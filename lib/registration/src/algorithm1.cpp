@@ -273,7 +273,13 @@ RegistrationResult register_segmented(const PointCloud& scan_in, const PointClou
   for (int k = 0; k < int(order.size()) && k < max_clusters; ++k) {
     const int i = order[k];
     if (parts[i].points.size() < 10) continue;
-    RegistrationResult r = register_cloud(parts[i], ref, s);
+    RegistrationResult r;
+    try {
+      r = register_cloud(parts[i], ref, s);
+    } catch (const Error& e) {  // a candidate too small to register is a failed candidate
+      r.status = Status::Failed;
+      r.reason = std::string("part ") + std::to_string(i) + ": " + e.what();
+    }
     // Equal ranks: with a prior the earlier (nearer) part wins — a thread registered onto the
     // needle's shaft fits as well as onto the thread; without one, the lower fitness.
     if (best_i < 0 || rank(r) < rank(best) || (rank(r) == rank(best) && !s.prior && r.fitness_mm2 < best.fitness_mm2))
