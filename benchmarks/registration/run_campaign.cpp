@@ -174,7 +174,13 @@ int main(int argc, char** argv) {
                 const auto t0 = std::chrono::steady_clock::now();
                 // Two candidate parts: the points near the prior-placed reference, then the
                 // cluster nearest it (the CLI default tries four).
-                const auto res = registration::register_segmented(scan.cloud, prep[k].ref, rs, 2);
+                registration::RegistrationResult res;
+                try {
+                  res = registration::register_segmented(scan.cloud, prep[k].ref, rs, 2);
+                } catch (const Error& e) {  // unusable scan for this target: a failure, recorded
+                  res.status = registration::Status::Failed;
+                  res.reason = std::string("error: ") + e.what();
+                }
                 r.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
                 r.status = registration::status_name(res.status), r.reason = res.reason;
                 const auto e = metrics::pose_error(res.T_scan_ref, gt, tg.symmetry, prep[k].model);
