@@ -164,7 +164,6 @@ int main(int argc, char** argv) {
                 auto rs = campaign::method_settings(m);
                 rs.pre.voxel_mm = tg.voxel_mm;
                 rs.q0 = Eigen::Quaterniond(nominal[k].rotation());
-                rs.rho_rot_deg = 30;
                 if (m != "paper") rs.prior = nominal[k];
                 rs.pre.use_viewpoint = true, rs.pre.viewpoint = viewpoint_of(scan.cloud);
                 rs.seed = scan.seed;

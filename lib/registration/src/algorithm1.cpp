@@ -120,11 +120,9 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
         continue;
       }
     }
-    if (coarse && !from_prior) {
-      const Fit f0 = evaluate(*scan, *ref_tree, T0, matcher);
+    if (coarse && !from_prior)
       r.log.push_back(head + "RANSAC pose t = [" + fmt(T0.translation().x()) + ", " + fmt(T0.translation().y()) +
-                      ", " + fmt(T0.translation().z()) + "], overlap " + fmt(f0.overlap));
-    }
+                      ", " + fmt(T0.translation().z()) + "]");
     t = Clock::now();
     // PCL's least-squares ICP variants divide by a singular matrix when the data cannot fix all
     // six directions (a cylinder seen from the side) and then abort inside PCL on NaN poses; the
