@@ -59,14 +59,10 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
   auto t = Clock::now();
   PreprocessSettings ref_pre = s.pre;
   ref_pre.use_viewpoint = false, ref_pre.outlier_std = 0;  // CAD samples have no outliers
-  const PclCloud::Ptr scan_all = to_pcl(scan_in);
-  const PclCloud::Ptr scan_s = sample_and_filter(scan_all, s.pre, voxel);
-  if (scan_s->size() < 10) throw Error("fewer than 10 scan points left after filtering and downsampling");
-  const PclCloud::Ptr scan = with_normals(scan_s, scan_s, s.pre.normal_radius_vox * voxel, s.pre, false);
-  if (scan->size() < 10) throw Error("fewer than 10 scan points with normals after preprocessing");
+  const PclCloud::Ptr scan = prepare(scan_in, s.pre, voxel);
   // The reference keeps its dense CAD samples and exact normals for refinement and assessment;
   // without normals, they are estimated.
-  const PclCloud::Ptr ref = ref_in.has_normals() ? to_pcl(ref_in) : to_pcl(preprocess(ref_in, ref_pre, voxel));
+  const PclCloud::Ptr ref = ref_in.has_normals() ? to_pcl(ref_in) : prepare(ref_in, ref_pre, voxel);
   r.timings_s["preprocess"] = since(t);
 
   t = Clock::now();

@@ -122,12 +122,18 @@ size_t remove_mixed_pixels(PointCloud& c, double factor) {
   return drop.size();
 }
 
-PointCloud preprocess(const PointCloud& in, const PreprocessSettings& s, double voxel) {
+PclCloud::Ptr prepare(const PointCloud& in, const PreprocessSettings& s, double voxel) {
   PclCloud::Ptr c = to_pcl(in);
   if (c->empty()) throw Error("cloud has no finite points");
   const PclCloud::Ptr d = sample_and_filter(c, s, voxel);
   if (d->size() < 10) throw Error("fewer than 10 points left after filtering and downsampling");
   const PclCloud::Ptr n = with_normals(d, d, s.normal_radius_vox * voxel, s, in.has_normals());
+  if (n->size() < 10) throw Error("fewer than 10 points with normals after preprocessing");
+  return n;
+}
+
+PointCloud preprocess(const PointCloud& in, const PreprocessSettings& s, double voxel) {
+  const PclCloud::Ptr n = prepare(in, s, voxel);
   PointCloud out;
   for (const auto& p : *n) {
     out.points.push_back(p.getVector3fMap());
@@ -135,7 +141,6 @@ PointCloud preprocess(const PointCloud& in, const PreprocessSettings& s, double 
   }
   out.width = static_cast<int>(out.points.size());
   out.height = 1;
-  if (out.points.size() < 10) throw Error("fewer than 10 points with normals after preprocessing");
   return out;
 }
 

@@ -16,6 +16,8 @@ PclCloud::Ptr sample_and_filter(const PclCloud::Ptr& c, const PreprocessSettings
 PclCloud::Ptr with_normals(const PclCloud::Ptr& cloud, const PclCloud::Ptr& surface, double radius,
                            const PreprocessSettings& s, bool keep_side);
 PclCloud::Ptr coarser(const PclCloud::Ptr& fine, double cvox, const PreprocessSettings& s, bool keep_side);
+// preprocess() in PCL types (what the stages consume); throws Error when too little is left.
+PclCloud::Ptr prepare(const PointCloud& in, const PreprocessSettings& s, double voxel);
 
 using Features = pcl::PointCloud<pcl::FPFHSignature33>;
 Features::Ptr fpfh(const PclCloud::Ptr& cloud, double radius_mm);
