@@ -1,6 +1,7 @@
 #include "laserfit/io/json.hpp"
 
 #include <cmath>
+#include <fstream>
 
 #include "laserfit/core/error.hpp"
 
@@ -15,6 +16,22 @@ Json pose_to_json(const Pose& T) {
 
 Pose pose_from_json(const Json& j, const std::string& what) {
   try {
+    if (j.contains("matrix")) {  // exact (the quaternion is a rounded copy of it)
+      const auto m = j.at("matrix").get<std::vector<std::vector<double>>>();
+      if (m.size() != 4) throw Error(what, "matrix needs 4 rows");
+      Eigen::Matrix4d M;
+      for (int r = 0; r < 4; ++r) {
+        if (m[r].size() != 4) throw Error(what, "matrix needs 4 columns");
+        for (int c = 0; c < 4; ++c) M(r, c) = m[r][c];
+      }
+      const Eigen::Matrix3d R = M.topLeftCorner<3, 3>();
+      if (!M.allFinite() || (R * R.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6 || R.determinant() < 0 ||
+          (M.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() > 1e-12)
+        throw Error(what, "matrix is not a rigid transform");
+      Pose T = Pose::Identity();
+      T.matrix() = M;
+      return T;
+    }
     if (j.contains("t_mm") && j.contains("q_wxyz")) {
       const auto t = j.at("t_mm").get<std::vector<double>>();
       const auto q = j.at("q_wxyz").get<std::vector<double>>();
@@ -27,6 +44,20 @@ Pose pose_from_json(const Json& j, const std::string& what) {
     throw Error(what, std::string("bad pose: ") + e.what());
   }
   throw Error(what, "pose needs t_mm and q_wxyz");
+}
+
+}  // namespace laserfit::io
+
+namespace laserfit::io {
+
+Json read_json(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(path, "cannot read the file");
+  try {
+    return Json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(path, std::string("not valid JSON: ") + e.what());
+  }
 }
 
 }  // namespace laserfit::io

@@ -32,9 +32,24 @@ std::string fmt(double v) {
   return b;
 }
 
-bool agree(const Pose& a, const Pose& b, const TrustSettings& t) {
-  return (a.translation() - b.translation()).norm() <= t.restart_agreement_mm &&
-         Eigen::AngleAxisd(a.rotation().transpose() * b.rotation()).angle() * 180 / M_PI <= t.restart_agreement_deg;
+// Two poses agree when they place the reference's surface in the same place: the RMS of the
+// displacement of its points along their normals is below the limit. Motions the surface cannot
+// show (a needle spinning about its shaft, a peg sliding along its axis) do not count against
+// agreement; they are what the Hessian test reports as ambiguous.
+bool agree(const Pose& a, const Pose& b, const PclCloud& ref, const TrustSettings& t) {
+  const Eigen::Matrix4f D = (a.matrix() - b.matrix()).cast<float>();
+  const Eigen::Matrix3f Ra = a.rotation().cast<float>();
+  const size_t step = std::max<size_t>(1, ref.size() / 2000);
+  double sum = 0;
+  size_t n = 0;
+  for (size_t i = 0; i < ref.size(); i += step) {
+    const auto& p = ref[i];
+    const Eigen::Vector3f x = p.getVector3fMap(), nrm = Ra * p.getNormalVector3fMap();
+    if (!x.allFinite() || !nrm.allFinite()) continue;
+    const float d = nrm.dot(D.topLeftCorner<3, 3>() * x + D.topRightCorner<3, 1>());
+    sum += double(d) * d, ++n;
+  }
+  return n > 0 && std::sqrt(sum / double(n)) <= t.restart_agreement_mm;
 }
 }  // namespace
 
@@ -145,7 +160,7 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
     // Stop once two converged attempts agree (one when there is no coarse stage to repeat).
     if (!coarse && !good.empty()) break;
     bool agreed = false;
-    for (size_t i = 0; i + 1 < good.size() && !agreed; ++i) agreed = agree(good[i].T, good.back().T, s.trust);
+    for (size_t i = 0; i + 1 < good.size() && !agreed; ++i) agreed = agree(good[i].T, good.back().T, *ref, s.trust);
     if (agreed) break;
   }
   r.timings_s["ransac"] = t_ransac;
@@ -179,14 +194,14 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
     for (const auto& c : good)
       // "Equally good": nearly the same overlap and fitness. A pose that leaves a few percent of
       // the scan unexplained (a hole matched to the wrong hole) is not a rival, just worse.
-      if (!agree(c.T, best.T, s.trust) && c.fit.overlap >= 0.98 * best.fit.overlap &&
+      if (!agree(c.T, best.T, *ref, s.trust) && c.fit.overlap >= 0.98 * best.fit.overlap &&
           c.fit.fitness_mm2 <= 1.5 * best.fit.fitness_mm2) {
         r.status = Status::Ambiguous;
         r.reason = "attempts converged to different poses with equal fit (symmetric part?)";
         break;
       }
     size_t confirming = 0;  // converged attempts that agree with the best (itself included)
-    for (const auto& c : good) confirming += agree(c.T, best.T, s.trust);
+    for (const auto& c : good) confirming += agree(c.T, best.T, *ref, s.trust);
     if (r.status == Status::Ok && coarse && confirming < 2 && s.max_attempts >= 2) {
       r.status = Status::Failed;
       r.reason = "no second attempt confirmed the pose (" + std::to_string(good.size()) +
@@ -232,6 +247,7 @@ PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& 
 
 RegistrationResult register_segmented(const PointCloud& scan_in, const PointCloud& ref,
                                       const RegistrationSettings& s, int max_clusters, int* cluster) {
+  const auto t0 = std::chrono::steady_clock::now();
   PointCloud scan = scan_in;
   remove_mixed_pixels(scan);
   const double voxel = s.pre.voxel_mm > 0 ? s.pre.voxel_mm : auto_voxel_mm(ref);
@@ -261,6 +277,7 @@ RegistrationResult register_segmented(const PointCloud& scan_in, const PointClou
       for (const auto& p : parts[i].points) dist[i] = std::min(dist[i], (p - at).squaredNorm());
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return dist[a] < dist[b]; });
   }
+  const double t_segment = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   RegistrationResult best;
   int best_i = -1;
   auto rank = [](const RegistrationResult& r) { return r.status == Status::Ok ? 0 : r.status == Status::Ambiguous ? 1 : 2; };
@@ -281,7 +298,9 @@ RegistrationResult register_segmented(const PointCloud& scan_in, const PointClou
     if (best.status == Status::Ok) break;
   }
   if (cluster) *cluster = best_i;
-  best.timings_s["clusters"] = double(parts.size());
+  best.timings_s["segment"] = t_segment;
+  best.log.push_back("segmentation: " + std::to_string(parts.size()) + " candidate parts, registered part " +
+                     std::to_string(best_i));
   return best;
 }
 

@@ -101,6 +101,7 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
     const Eigen::Vector3d axis = (rot ? d.head<3>() : d.tail<3>()).normalized();
     int weak = 0;
     for (int k = 0; k < 6; ++k) weak += es.eigenvalues()[k] < t.ambiguity_ratio * es.eigenvalues()[5];
+    r.unobservable = weak;
     why << "unobservable " << (rot ? "rotation about" : "translation along") << " [" << axis.x()
         << ", " << axis.y() << ", " << axis.z() << "] (scan frame)";
     if (weak > 1) why << " and " << weak - 1 << " more direction(s)";

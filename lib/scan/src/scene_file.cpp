@@ -9,72 +9,13 @@
 
 #include "laserfit/cad/import.hpp"
 #include "laserfit/core/error.hpp"
+#include "laserfit/io/yaml_reader.hpp"
 #include "laserfit/scan/scanner.hpp"
 
 namespace laserfit::scan {
 namespace {
 
-struct Reader {
-  std::string file;
-
-  [[noreturn]] void fail(const std::string& where, const std::string& what) const {
-    throw Error(file, where + ": " + what);
-  }
-  void only(const YAML::Node& n, const std::string& where, std::set<std::string> keys) const {
-    if (!n.IsMap()) fail(where, "expected a mapping");
-    for (const auto& kv : n) {
-      const auto k = kv.first.as<std::string>();
-      if (!keys.count(k)) fail(where, "unknown key '" + k + "'");
-    }
-  }
-  double num(const YAML::Node& n, const std::string& key, double def, const std::string& where) const {
-    if (!n[key]) return def;
-    try {
-      const double v = n[key].as<double>();
-      if (!std::isfinite(v)) fail(where + "." + key, "not a finite number");
-      return v;
-    } catch (const YAML::Exception&) {
-      fail(where + "." + key, "not a number");
-    }
-  }
-  // A block of numeric settings: the table names the accepted keys and the fields they fill, so
-  // the key list is never written twice. `extra` are further keys the caller reads itself.
-  using Fields = std::initializer_list<std::pair<const char*, double*>>;
-  void numbers(const YAML::Node& n, const std::string& where, Fields fields,
-               std::set<std::string> extra = {}) const {
-    for (const auto& f : fields) extra.insert(f.first);
-    only(n, where, extra);
-    for (const auto& [key, field] : fields) *field = num(n, key, *field, where);
-  }
-  bool flag(const YAML::Node& n, const std::string& key, bool def, const std::string& where) const {
-    if (!n[key]) return def;
-    try {
-      return n[key].as<bool>();
-    } catch (const YAML::Exception&) {
-      fail(where + "." + key, "expected true or false");
-    }
-  }
-  std::vector<double> list(const YAML::Node& n, const std::string& where) const {
-    if (!n.IsSequence()) fail(where, "expected a list of numbers");
-    std::vector<double> v;
-    try {
-      for (const auto& x : n) v.push_back(x.as<double>());
-    } catch (const YAML::Exception&) {
-      fail(where, "expected a list of numbers");
-    }
-    return v;
-  }
-  Pose pose(const YAML::Node& n, const std::string& where) const {
-    std::ostringstream s;
-    s.precision(17);
-    for (double x : list(n, where)) s << x << ' ';
-    try {
-      return parse_pose(s.str(), where);
-    } catch (const Error& e) {
-      throw Error(file, e.what());
-    }
-  }
-};
+using Reader = io::YamlReader;
 
 void read_sensor(const Reader& R, const YAML::Node& n, sensor::LineScannerGeometry& g) {
   double ppp = g.points_per_profile;

@@ -54,8 +54,8 @@ struct TrustSettings {
   double max_rmse_vox = 0.5;        // inlier RMSE above this (in voxels) -> failed
   double min_overlap = 0.3;         // fraction of the reference explained -> else failed
   double ambiguity_ratio = 1e-3;    // Hessian eigenvalue ratio (scaled) below -> ambiguous
-  double restart_agreement_mm = 0.05;   // restarts with equal fitness must agree this well
-  double restart_agreement_deg = 1.0;
+  double restart_agreement_mm = 0.02;   // restarts agree when the reference's points move less
+                                        // than this (RMS along their normals) between them
   double polish_mm = 0.02;          // a robust point-to-plane polish of the final pose must move
   double polish_deg = 0.2;          // it less than this, else failed (non-Ceres refiners)
 };
@@ -91,7 +91,8 @@ struct RegistrationResult {
   int attempts = 0, iterations = 0;  // iterations: ceres and ndt only (PCL ICP does not say)
   Matrix6d covariance = Matrix6d::Zero();  // [rx ry rz (rad), tx ty tz (mm)], scan frame
   Vector6d hessian_eigenvalues = Vector6d::Zero();  // scaled, ascending
-  Vector6d weakest_direction = Vector6d::Zero();
+  Vector6d weakest_direction = Vector6d::Zero();  // [r (axis, scaled by the part's size) ; t]
+  int unobservable = 0;             // directions below the ambiguity ratio (ambiguous: >= 1)
   double voxel_mm = 0;
   std::map<std::string, double> timings_s;  // per stage
   std::vector<std::string> log;             // one line per attempt and decision
