@@ -1,18 +1,22 @@
 // laserfit register --scan S.pcd --ref R.pcd [--ref R2.pcd ...]: pose of each reference in the
 // scan (the paper's Algorithm 1 and variants), with fit statistics, covariance and a trust status.
+#include <filesystem>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "command.hpp"
 #include "laserfit/core/error.hpp"
 #include "laserfit/io/cloud_io.hpp"
 #include "laserfit/registration/registration.hpp"
+#include "laserfit/registration/thresholds.hpp"
 
 namespace laserfit::cli {
 namespace {
 
 struct Options {
-  std::string scan, method = "ceres", coarse = "gated", prior, q0, viewpoint;
+  std::string scan, method = "ceres", coarse = "gated", prior, q0, viewpoint, thresholds, object;
+  CLI::App* app = nullptr;  // to tell the options given from the defaults
   std::vector<std::string> refs;
   double voxel = 0, rho_rot = 30, rho_icp = 0.05;
   int attempts = 8;
@@ -63,6 +67,20 @@ int run(const Options& o) {
   s.pre.voxel_mm = o.voxel;
   s.rho_rot_deg = o.rho_rot;
   s.rho_icp_vox2 = o.rho_icp;
+  std::optional<registration::Thresholds> tuned;
+  if (!o.thresholds.empty()) tuned = registration::load_thresholds(o.thresholds);
+  // Tuned thresholds replace the defaults; options given on the command line still win.
+  auto given = [&](const char* opt) { return o.app->count(opt) > 0; };
+  auto settings_for = [&](const std::string& object) {
+    registration::RegistrationSettings x = s;
+    if (!tuned) return x;
+    tuned->apply(x, object, o.voxel);
+    if (given("--method")) x.refine.method = o.method;
+    if (given("--voxel")) x.pre.voxel_mm = o.voxel;
+    if (given("--rho-rot")) x.rho_rot_deg = o.rho_rot;
+    if (given("--rho-icp")) x.rho_icp_vox2 = o.rho_icp;
+    return x;
+  };
   s.max_attempts = o.attempts;
   s.seed = o.seed;
   if (!o.prior.empty()) s.prior = parse_pose(o.prior, "--prior"), s.skip_coarse = o.refine_only;
@@ -82,11 +100,13 @@ int run(const Options& o) {
   std::ostringstream h;
   for (const auto& ref_path : o.refs) {
     const PointCloud ref = io::read_cloud(ref_path);
+    const registration::RegistrationSettings rs =
+        settings_for(!o.object.empty() ? o.object : std::filesystem::path(ref_path).stem().string());
     registration::RegistrationResult r;
     int cluster = -1;
     try {
-      r = o.no_segment ? registration::register_cloud(scan, ref, s)
-                       : registration::register_segmented(scan, ref, s, o.max_clusters, &cluster);
+      r = o.no_segment ? registration::register_cloud(scan, ref, rs)
+                       : registration::register_segmented(scan, ref, rs, o.max_clusters, &cluster);
     } catch (const Error& e) {
       throw Error(o.scan + " vs " + ref_path, e.what());
     }
@@ -98,7 +118,8 @@ int run(const Options& o) {
       << ", " << tq[4] << ", " << tq[5] << ", " << tq[6] << "]\n  fit         rmse "
       << r.inlier_rmse_mm * 1e3 << " um, overlap " << r.overlap << ", " << r.attempts << " attempt(s)\n";
   }
-  emit(o.json, io::Json{{"scan", o.scan}, {"method", o.method}, {"seed", o.seed}, {"results", results}}, h.str());
+  emit(o.json, io::Json{{"scan", o.scan}, {"method", o.method}, {"seed", o.seed}, {"thresholds", o.thresholds},
+                        {"results", results}}, h.str());
   return 0;
 }
 
@@ -128,7 +149,12 @@ Command add_register(CLI::App& root) {
   app->add_option("--seed", o->seed, "RANSAC seed")->capture_default_str();
   app->add_flag("--no-segment", o->no_segment, "register against the whole scan (one part only)");
   app->add_option("--max-clusters", o->max_clusters, "try the reference against this many largest parts")->capture_default_str();
+  app->add_option("--thresholds", o->thresholds, "tuned thresholds (laserfit tune) instead of the defaults; "
+                                                 "options given here still override them");
+  app->add_option("--object", o->object, "object name for the thresholds' per-object voxel (default: the "
+                                         "reference file's name without extension)");
   app->add_flag("--json", o->json, "machine-readable result on stdout");
+  o->app = app;
   return {app, [o] { return run(*o); }};
 }
 

@@ -3,7 +3,11 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <iostream>
+#include <sstream>
 #include <string>
+#include <vector>
+
+#include "laserfit/core/error.hpp"
 
 #include "laserfit/io/json.hpp"
 
@@ -20,6 +24,9 @@ Command add_refcloud(CLI::App& root);
 Command add_cad(CLI::App& root);
 Command add_scan(CLI::App& root);
 Command add_register(CLI::App& root);
+Command add_bench(CLI::App& root);
+Command add_tune(CLI::App& root);
+Command add_report(CLI::App& root, int argc, char** argv);  // re-executes under xvfb-run without X
 
 // --json: the machine-readable result on stdout (and nothing else there); otherwise human text.
 inline void emit(bool json, const io::Json& j, const std::string& human) {
@@ -27,6 +34,18 @@ inline void emit(bool json, const io::Json& j, const std::string& human) {
     std::cout << j.dump(2) << "\n";
   else
     std::cout << human;
+}
+
+// "a:b" -> a, a+1, ..., b-1 (repetitions of a benchmark's cells, as tuning splits them).
+inline std::vector<int> parse_range(const std::string& text, const std::string& what) {
+  int a = 0, b = 0;
+  char c = 0, extra = 0;
+  std::istringstream in(text);
+  if (!(in >> a >> c >> b) || c != ':' || a < 0 || b <= a || (in >> extra))
+    throw Error(what + " '" + text + "': expected a:b with 0 <= a < b");
+  std::vector<int> v;
+  for (int i = a; i < b; ++i) v.push_back(i);
+  return v;
 }
 
 }  // namespace laserfit::cli

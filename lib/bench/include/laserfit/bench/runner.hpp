@@ -1,0 +1,47 @@
+#pragma once
+// The benchmark runner: every (trial x target x method) of a benchmark (or of one shard of it), in
+// parallel, each trial's records journaled as it completes so an interrupted run resumes without
+// repeating or losing trials; at the end DIR/results.jsonl (sorted by trial: the same bytes
+// whatever the job count, apart from each record's "timing"), DIR/summary.csv and DIR/run.json,
+// all written atomically.
+#include <string>
+#include <vector>
+
+#include "laserfit/bench/spec.hpp"
+#include "laserfit/bench/trial.hpp"
+#include "laserfit/io/json.hpp"
+
+namespace laserfit::bench {
+
+struct RunSettings {
+  std::vector<std::string> methods;     // empty: the benchmark's own list
+  Shard shard;
+  std::string out_dir;                  // results.jsonl, summary.csv, run.json, overlays/
+  std::string dataset_dir;              // non-empty: read scans from a generated dataset
+  std::string thresholds_file;          // non-empty: tuned thresholds on top of each method
+  int jobs = 1;                         // trials in parallel (1: per-trial peak memory)
+  std::vector<int> only_repetitions;    // non-empty: only these repetitions (tuning splits)
+  bool overlays = true;                 // first trial of each scene: overlay clouds
+  bool progress = true;                 // progress on stderr (a bar on a terminal)
+};
+
+struct RunSummary {
+  size_t trials = 0, resumed = 0, records = 0;
+  double wall_s = 0, trials_per_s = 0;
+};
+
+RunSummary run_benchmark(const Benchmark& b, const RunSettings& s);
+
+// Combines the result directories of the shards 0..N-1 of one benchmark into `out_dir`; refuses
+// missing, duplicate or mismatched shards. The merge equals a single run of all trials.
+RunSummary merge_runs(const std::vector<std::string>& dirs, const std::string& out_dir);
+
+// results.jsonl <-> records; records sorted by (trial, object order, method order) as written.
+std::vector<io::Json> read_results(const std::string& path);
+void write_results(const std::string& dir, const std::vector<io::Json>& records, const io::Json& run);
+
+// Per (method, scene, object) and per method overall: success rate, false accepts, ambiguous,
+// failed, median / p95 errors over the poses returned (status not failed), time, peak memory.
+std::string summary_csv(const std::vector<io::Json>& records);
+
+}  // namespace laserfit::bench

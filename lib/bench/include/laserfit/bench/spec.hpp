@@ -1,0 +1,67 @@
+#pragma once
+// A benchmark definition (benchmarks/*.yaml): which scenes and targets, which conditions (a grid
+// or random draws over noise level, outlier rate, pose perturbation, prior error, sweep length),
+// how many trials, the seed. Lengths mm, angles deg. Strict: unknown keys are errors.
+#include <cstdint>
+#include <Eigen/Core>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "laserfit/metrics/pose_error.hpp"
+
+namespace laserfit::bench {
+
+struct Target {
+  std::string object;              // the scene object whose pose is estimated
+  metrics::Symmetry symmetry;
+  double voxel_mm = 0;             // registration voxel; 0 = auto
+  std::string reference = "view";  // view: what the nominal sweep sees | full: whole surface
+  std::string reference_mesh;      // another CAD file as the reference (a wrong-object trial)
+  size_t reference_points = 60000;
+  bool expect_failure = false;     // success = not `ok` (wrong object: must be rejected)
+  // Degrees of freedom the view cannot fix, object frame: a nearly symmetric rotation (a needle's
+  // spin about its shaft: only the eye breaks the symmetry) and a translation (a peg seen from
+  // the side: its tip faces away). An `ambiguous` result that names one of them as unobservable
+  // (and has no more unobservable directions than declared, a continuous symmetry counting one)
+  // is a correct report: the rest of the pose is then scored without them.
+  std::optional<Eigen::Vector3d> weak_rotation, weak_translation;
+};
+
+struct SceneCase {
+  std::string name, scene_path;
+  std::vector<Target> targets;
+};
+
+// The conditions a trial runs under. Each is an axis of the benchmark's grid (or a range of its
+// random draws); the defaults are the scene's own settings.
+struct Conditions {
+  double noise_scale = 1;          // x the sensor's noise sigmas (depth, jitter, speckle, bias)
+  double outlier_rate = -1;        // outliers per point on every surface; < 0: the scene's own
+  double rotation_deg = 20;        // true pose: rotated up to this from the nominal (uniform axis)
+  double translation_mm = 1;       //   and moved up to this (uniform in a ball)
+  double prior_rotation_deg = -1;  // prior: the nominal pose (< 0), or the truth rotated up to
+  double prior_translation_mm = -1;//   this and moved up to this (independent of the perturbation)
+  double sweep_fraction = 1;       // sweep length x this about its centre (low overlap below 1)
+};
+// Names of the axes, in the order of Conditions (YAML keys, CSV columns).
+const std::vector<std::string>& axis_names();
+double& axis(Conditions& c, const std::string& name);
+double axis(const Conditions& c, const std::string& name);
+
+struct Benchmark {
+  std::string name, file;
+  uint64_t seed = 1;
+  int trials = 10;                 // per grid cell (grid) or in total per scene (random)
+  std::string mode = "grid";       // grid: every combination of the axes' values; random: draws
+  std::map<std::string, std::vector<double>> axes;  // grid: values; random: [min, max]
+  double t_tol_mm = 0.05, r_tol_deg = 0.5;          // success tolerance
+  std::vector<std::string> methods = {"ceres"};     // default methods of `laserfit bench`
+  std::vector<SceneCase> scenes;
+  uint64_t digest = 0;             // of the file's bytes: a resumed run must use the same file
+};
+
+Benchmark load_benchmark(const std::string& path);  // throws laserfit::Error naming the file
+
+}  // namespace laserfit::bench

@@ -1,0 +1,197 @@
+// The benchmark runner: parallel trials, a journal for resuming, atomic final files.
+#include "laserfit/bench/runner.hpp"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include "laserfit/bench/checksum.hpp"
+#include "laserfit/bench/memory.hpp"
+#include "laserfit/core/atomic_file.hpp"
+#include "laserfit/core/error.hpp"
+
+namespace laserfit::bench {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kJournal = "journal.jsonl";
+
+io::Json run_header(const Benchmark& b, const RunSettings& s, const std::vector<std::string>& methods) {
+  return {{"format", "laserfit.bench/1"},
+          {"benchmark", b.name},
+          {"file", b.file},
+          {"digest", hex32(uint32_t(b.digest))},
+          {"seed", b.seed},
+          {"methods", methods},
+          {"shard", s.shard.text()},
+          {"repetitions", s.only_repetitions},
+          {"thresholds", s.thresholds_file.empty() ? "" : hex32(crc32_file(s.thresholds_file))},
+          {"trials_total", enumerate_trials(b).size()}};
+}
+
+// Reads the journal's complete lines (a torn last line from a kill is dropped) and rewrites it
+// without the torn tail, so appending continues on a line boundary.
+std::map<int, std::vector<io::Json>> resume(const std::string& path, const io::Json& header) {
+  std::map<int, std::vector<io::Json>> done;
+  std::ifstream in(path);
+  if (!in) return done;
+  std::string line, kept;
+  bool first = true;
+  while (std::getline(in, line)) {
+    if (in.eof()) break;  // no newline: torn
+    io::Json j;
+    try {
+      j = io::Json::parse(line);
+    } catch (const io::Json::exception&) {
+      break;
+    }
+    if (first) {
+      if (j != header)
+        throw Error(path, "a journal of a different run (benchmark, methods, shard or thresholds differ); "
+                          "remove it or choose another --out");
+      first = false;
+    } else {
+      done[j.at("trial").get<int>()] = j.at("records").get<std::vector<io::Json>>();
+    }
+    kept += line + "\n";
+  }
+  if (first) return done;  // empty or torn header: start afresh
+  write_file_atomic(path, kept);
+  return done;
+}
+
+void progress_line(bool tty, const std::string& name, size_t done, size_t total, double rate, size_t left) {
+  const double eta = rate > 0 ? double(left) / rate : 0;
+  char buf[200];
+  if (tty) {
+    const int w = 30, f = total ? int(w * done / total) : w;
+    std::snprintf(buf, sizeof buf, "\r%s [%s%s] %zu/%zu trials  %.2f trials/s  ETA %.0f s ", name.c_str(),
+                  std::string(f, '#').c_str(), std::string(w - f, '-').c_str(), done, total, rate, eta);
+    std::cerr << buf << (done == total ? "\n" : "") << std::flush;
+  } else {
+    std::snprintf(buf, sizeof buf, "%s: %zu/%zu trials, %.2f trials/s, ETA %.0f s\n", name.c_str(), done, total,
+                  rate, eta);
+    std::cerr << buf;
+  }
+}
+
+}  // namespace
+
+RunSummary run_benchmark(const Benchmark& b, const RunSettings& s) {
+  const auto t_start = std::chrono::steady_clock::now();
+  const std::vector<std::string> methods = s.methods.empty() ? b.methods : s.methods;
+  for (const auto& m : methods) {
+    bool known = m == "paper";
+    for (const auto& r : registration::refiner_names()) known |= r == m;
+    if (!known) throw Error("unknown method '" + m + "'");
+  }
+  std::optional<registration::Thresholds> thresholds;
+  if (!s.thresholds_file.empty()) thresholds = registration::load_thresholds(s.thresholds_file);
+  fs::create_directories(s.out_dir);
+  const io::Json header = run_header(b, s, methods);
+  const std::string journal = s.out_dir + "/" + kJournal;
+  std::map<int, std::vector<io::Json>> done = resume(journal, header);
+
+  std::vector<Trial> pending;
+  size_t mine = 0;
+  const std::set<int> reps(s.only_repetitions.begin(), s.only_repetitions.end());
+  for (const auto& t : enumerate_trials(b)) {
+    if (!s.shard.contains(t) || (!reps.empty() && !reps.count(t.repetition))) continue;
+    ++mine;
+    if (!done.count(t.index)) pending.push_back(t);
+  }
+  RunSummary sum;
+  sum.resumed = mine - pending.size();
+  if (sum.resumed && s.progress) std::cerr << b.name << ": resuming, " << sum.resumed << " trials already done\n";
+
+  std::map<int, PreparedScene> scenes;  // only the scenes this run needs
+  for (const auto& t : pending)
+    if (!scenes.count(t.scene)) scenes.emplace(t.scene, prepare_scene(b, t.scene));
+  std::map<std::string, std::string> crc;  // dataset file -> CRC-32 from its manifest
+  if (!s.dataset_dir.empty()) {
+    const std::string mf = s.dataset_dir + "/manifest.json";
+    const io::Json manifest = io::read_json(mf);
+    if (manifest.value("digest", "") != hex32(uint32_t(b.digest)))
+      throw Error(mf, "generated from a different benchmark file than " + b.file);
+    try {
+      for (const auto& f : manifest.at("files")) crc[f.at("path")] = f.at("crc32");
+    } catch (const io::Json::exception& e) {
+      throw Error(mf, std::string("not a laserfit dataset manifest: ") + e.what());
+    }
+  }
+  // A dataset file is used only if it still matches its manifest.
+  auto checked = [&](const std::string& rel) {
+    const std::string path = s.dataset_dir + "/" + rel;
+    const auto it = crc.find(rel);
+    if (it == crc.end()) throw Error(path, "not in the dataset's manifest");
+    if (hex32(crc32_file(path)) != it->second) throw Error(path, "differs from the dataset's manifest (CRC-32)");
+    return path;
+  };
+
+  std::ofstream jout(journal, std::ios::app);
+  if (done.empty()) jout << header.dump() << "\n" << std::flush;
+  if (!jout) throw Error(journal, "cannot write the journal");
+  MemoryProbe::set_exclusive(s.jobs <= 1);
+  TrialOptions opt;
+  opt.methods = methods;
+  opt.thresholds = thresholds ? &*thresholds : nullptr;
+  if (s.overlays) fs::create_directories(opt.overlay_dir = s.out_dir + "/overlays");
+
+  std::atomic<size_t> next{0}, finished{0};
+  std::mutex m;
+  std::string first_error;
+  const bool tty = isatty(fileno(stderr));
+  auto worker = [&] {
+    for (size_t i; (i = next++) < pending.size();) {
+      const Trial& t = pending[i];
+      try {
+        const PreparedScene& p = scenes.at(t.scene);
+        const std::string id = std::to_string(t.index);
+        const TrialInput in = s.dataset_dir.empty()
+                                  ? simulate_trial(b, p, t)
+                                  : read_trial(p, checked("scans/" + id + ".pcd"), checked("gt/" + id + ".json"));
+        auto recs = run_trial(b, p, t, in, opt);
+        std::lock_guard<std::mutex> l(m);
+        jout << io::Json{{"trial", t.index}, {"records", recs}}.dump() << "\n" << std::flush;
+        done[t.index] = std::move(recs);
+        const size_t f = ++finished;
+        const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+        if (s.progress) progress_line(tty, b.name, sum.resumed + f, mine, f / el, mine - sum.resumed - f);
+      } catch (const std::exception& e) {
+        std::lock_guard<std::mutex> l(m);
+        if (first_error.empty()) first_error = e.what();
+        next = pending.size();  // stop handing out work; the journal keeps what is done
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int j = 0; j < std::max(1, s.jobs); ++j) pool.emplace_back(worker);
+  for (auto& t : pool) t.join();
+  jout.close();
+  if (!first_error.empty()) throw Error(first_error);
+
+  std::vector<io::Json> records;
+  for (const auto& [idx, recs] : done)
+    for (const auto& r : recs) records.push_back(r);
+  sum.trials = mine;
+  sum.records = records.size();
+  sum.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  sum.trials_per_s = pending.empty() ? 0 : double(pending.size()) / sum.wall_s;
+  io::Json run = header;
+  run["jobs"] = s.jobs, run["dataset"] = s.dataset_dir, run["trials"] = mine, run["resumed"] = sum.resumed;
+  run["records"] = records.size(), run["wall_s"] = sum.wall_s, run["trials_per_s"] = sum.trials_per_s;
+  write_results(s.out_dir, records, run);
+  fs::remove(journal);
+  return sum;
+}
+
+}  // namespace laserfit::bench

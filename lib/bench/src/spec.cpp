@@ -1,0 +1,143 @@
+#include "laserfit/bench/spec.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "laserfit/bench/checksum.hpp"
+#include "laserfit/core/error.hpp"
+#include "laserfit/io/yaml_reader.hpp"
+
+namespace laserfit::bench {
+
+const std::vector<std::string>& axis_names() {
+  static const std::vector<std::string> n = {"noise_scale",        "outlier_rate",         "rotation_deg",
+                                             "translation_mm",     "prior_rotation_deg",   "prior_translation_mm",
+                                             "sweep_fraction"};
+  return n;
+}
+
+double& axis(Conditions& c, const std::string& name) {
+  double* f[] = {&c.noise_scale,        &c.outlier_rate,         &c.rotation_deg, &c.translation_mm,
+                 &c.prior_rotation_deg, &c.prior_translation_mm, &c.sweep_fraction};
+  const auto& n = axis_names();
+  for (size_t i = 0; i < n.size(); ++i)
+    if (n[i] == name) return *f[i];
+  throw Error("unknown condition '" + name + "'");
+}
+double axis(const Conditions& c, const std::string& name) { return axis(const_cast<Conditions&>(c), name); }
+
+namespace {
+
+using io::YamlReader;
+
+// Physically meaningful ranges of each axis (an impossible config is an error, not a NaN later).
+void check_axis(const YamlReader& R, const std::string& name, double v) {
+  const std::string where = "conditions." + name;
+  if (name == "noise_scale" && !(v >= 0 && v <= 100)) R.fail(where, "must be in 0..100");
+  if (name == "outlier_rate" && !(v >= -1 && v <= 0.5)) R.fail(where, "must be in 0..0.5 (or -1: the scene's)");
+  if ((name == "rotation_deg" || name == "prior_rotation_deg") && !(v >= -1 && v <= 180))
+    R.fail(where, "must be in 0..180 deg");
+  if ((name == "translation_mm" || name == "prior_translation_mm") && !(v >= -1 && v <= 100))
+    R.fail(where, "must be in 0..100 mm");
+  if (name == "sweep_fraction" && !(v > 0 && v <= 1)) R.fail(where, "must be in (0, 1]");
+}
+
+Target read_target(const YamlReader& R, const YAML::Node& t, const std::string& where,
+                   const std::filesystem::path& dir) {
+  R.only(t, where, {"object", "symmetry", "voxel_mm", "reference", "reference_mesh", "reference_points", "expect",
+                   "weak_rotation", "weak_translation"});
+  Target tg;
+  R.need(t, "object", where);
+  tg.object = R.str(t, "object", "", where);
+  try {
+    tg.symmetry = metrics::parse_symmetry(R.str(t, "symmetry", "none", where));
+  } catch (const Error& e) {
+    R.fail(where + ".symmetry", e.what());
+  }
+  tg.voxel_mm = R.num(t, "voxel_mm", 0, where);
+  if (tg.voxel_mm < 0 || tg.voxel_mm > 10) R.fail(where + ".voxel_mm", "must be in 0..10 mm (0 = auto)");
+  tg.reference = R.str(t, "reference", "view", where);
+  if (tg.reference != "view" && tg.reference != "full") R.fail(where + ".reference", "must be view or full");
+  if (t["reference_mesh"]) tg.reference_mesh = (dir / R.str(t, "reference_mesh", "", where)).lexically_normal().string();
+  tg.reference_points = size_t(R.integer(t, "reference_points", 60000, where, 100, 10000000));
+  const std::string expect = R.str(t, "expect", "pose", where);
+  if (expect != "pose" && expect != "failure") R.fail(where + ".expect", "must be pose or failure");
+  tg.expect_failure = expect == "failure";
+  for (const char* key : {"weak_rotation", "weak_translation"}) {
+    if (!t[key]) continue;
+    const std::string a = R.str(t, key, "", where);
+    if (a != "x" && a != "y" && a != "z") R.fail(where + "." + key, "must be x, y or z (object frame)");
+    (std::string(key) == "weak_rotation" ? tg.weak_rotation : tg.weak_translation) = Eigen::Vector3d::Unit(a[0] - 'x');
+  }
+  if (tg.object.empty()) R.fail(where + ".object", "must name a scene object");
+  return tg;
+}
+
+}  // namespace
+
+Benchmark load_benchmark(const std::string& path) {
+  const YamlReader R{path};
+  const YAML::Node root = R.load();
+  R.only(root, "benchmark", {"name", "seed", "trials", "mode", "conditions", "tolerance", "methods", "scenes"});
+  const auto dir = std::filesystem::path(path).parent_path();
+  Benchmark b;
+  b.file = path;
+  R.need(root, "name", "benchmark");
+  b.name = R.str(root, "name", "", "benchmark");
+  if (b.name.empty() || b.name.find_first_of("/ \t") != std::string::npos)
+    R.fail("name", "must be a non-empty word (it names datasets/<name>/)");
+  b.seed = uint64_t(R.integer(root, "seed", 1, "benchmark", 0, (1LL << 53)));
+  b.trials = int(R.integer(root, "trials", 10, "benchmark", 1, 1000000));
+  b.mode = R.str(root, "mode", "grid", "benchmark");
+  if (b.mode != "grid" && b.mode != "random") R.fail("mode", "must be grid or random");
+  if (const auto c = root["conditions"]) {
+    std::set<std::string> names(axis_names().begin(), axis_names().end());
+    R.only(c, "conditions", names);
+    for (const auto& kv : c) {
+      const auto k = kv.first.as<std::string>();
+      std::vector<double> v = kv.second.IsSequence() ? R.list(kv.second, "conditions." + k)
+                                                     : std::vector<double>{R.num(c, k, 0, "conditions")};
+      if (v.empty()) R.fail("conditions." + k, "needs at least one value");
+      if (b.mode == "random" && v.size() != 2 && v.size() != 1)
+        R.fail("conditions." + k, "random mode: a value or a [min, max] range");
+      if (b.mode == "random" && v.size() == 2 && v[0] > v[1]) R.fail("conditions." + k, "min above max");
+      for (double x : v) check_axis(R, k, x);
+      b.axes[k] = v;
+    }
+  }
+  if (const auto t = root["tolerance"]) {
+    R.numbers(t, "tolerance", {{"translation_mm", &b.t_tol_mm}, {"rotation_deg", &b.r_tol_deg}});
+    if (!(b.t_tol_mm > 0) || !(b.r_tol_deg > 0)) R.fail("tolerance", "must be positive");
+  }
+  if (const auto m = root["methods"]) {
+    if (!m.IsSequence() || m.size() == 0) R.fail("methods", "expected a non-empty list of method names");
+    b.methods.clear();
+    for (const auto& x : m) b.methods.push_back(x.as<std::string>());
+  }
+  const auto scenes = R.need(root, "scenes", "benchmark");
+  if (!scenes.IsSequence() || scenes.size() == 0) R.fail("scenes", "expected a non-empty list");
+  for (size_t i = 0; i < scenes.size(); ++i) {
+    const std::string where = "scenes[" + std::to_string(i) + "]";
+    const auto& s = scenes[i];
+    R.only(s, where, {"name", "scene", "targets"});
+    SceneCase sc;
+    sc.name = R.str(s, "name", "", where);
+    if (sc.name.empty()) R.fail(where + ".name", "missing");
+    sc.scene_path = (dir / R.str(s, "scene", "", where)).lexically_normal().string();
+    const auto targets = R.need(s, "targets", where);
+    if (!targets.IsSequence() || targets.size() == 0) R.fail(where + ".targets", "expected a non-empty list");
+    for (size_t k = 0; k < targets.size(); ++k)
+      sc.targets.push_back(read_target(R, targets[k], where + ".targets[" + std::to_string(k) + "]", dir));
+    for (const auto& other : b.scenes)
+      if (other.name == sc.name) R.fail(where + ".name", "duplicate scene name '" + sc.name + "'");
+    b.scenes.push_back(sc);
+  }
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  b.digest = crc32(bytes.str());
+  return b;
+}
+
+}  // namespace laserfit::bench

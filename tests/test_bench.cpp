@@ -1,0 +1,251 @@
+// Benchmark definitions, trials and shards, thresholds files, and the runner: shards merged equal
+// one run, an interrupted run resumes without repeating or losing trials, a dataset on disk gives
+// the same records as the scans simulated in memory.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <set>
+
+#include "laserfit/bench/dataset.hpp"
+#include "laserfit/bench/runner.hpp"
+#include "laserfit/bench/tune.hpp"
+#include "laserfit/core/error.hpp"
+#include "laserfit/registration/thresholds.hpp"
+#include "test_util.hpp"
+
+using namespace laserfit;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kSource = LASERFIT_SOURCE_DIR;
+
+// A small USB scene (a coarse, short sweep: ~0.2 M points) so that a run takes seconds.
+std::string tiny_benchmark(const test::TempDir& dir, int trials = 3, const std::string& extra = "") {
+  test::write_text(dir / "scene.yaml", "objects:\n"
+                   "  - {name: usb_a_receptacle, mesh: " + kSource + "/cad/usb_a_receptacle.ply, pose: [500, 0, 100, 0, 1, 0, 0]}\n"
+                   "  - {name: usb_a_plug, mesh: " + kSource + "/cad/usb_a_plug.ply, pose: [500.4, -0.3, 106, 0, 0.99985, 0.01745, 0]}\n"
+                   "sweep:\n"
+                   "  center: {look_from: [455, -45, 166.64], look_at: [500, 0, 103], line: [1, -1, 0]}\n"
+                   "  direction: [0, 1, 0]\n  length_mm: 20\n  speed_mm_s: 50\n  profile_rate_hz: 1000\n");
+  test::write_text(dir / "tiny.yaml", "name: tiny\nseed: 3\nmode: random\ntrials: " + std::to_string(trials) + "\n"
+                   "conditions: {noise_scale: [0.5, 2], rotation_deg: 10, translation_mm: 0.5}\n" + extra +
+                   "scenes:\n  - name: usb\n    scene: scene.yaml\n    targets:\n"
+                   "      - {object: usb_a_receptacle, symmetry: none, reference_points: 20000}\n");
+  return dir / "tiny.yaml";
+}
+
+std::vector<io::Json> without_timing(std::vector<io::Json> rs) {
+  for (auto& r : rs) r.erase("timing");
+  return rs;
+}
+
+bench::RunSettings quiet_run(const std::string& out) {
+  bench::RunSettings s;
+  s.out_dir = out;
+  s.progress = false;
+  s.jobs = 2;
+  return s;
+}
+
+}  // namespace
+
+TEST(Bench, EveryShippedBenchmarkLoads) {
+  for (const auto& e : fs::directory_iterator(kSource + "/benchmarks")) {
+    if (e.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(e.path().string());
+    const auto b = bench::load_benchmark(e.path().string());
+    EXPECT_FALSE(bench::enumerate_trials(b).empty());
+    for (const auto& sc : b.scenes) EXPECT_TRUE(fs::exists(sc.scene_path)) << sc.scene_path;
+  }
+}
+
+TEST(Bench, BadDefinitionsAreErrorsNamingTheFile) {
+  test::TempDir dir;
+  const std::string good = "name: x\nscenes:\n  - {name: a, scene: s.yaml, targets: [{object: o}]}\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"name: x\ntrails: 3\n" + good.substr(8), "unknown key 'trails'"},
+      {"name: x\nconditions: {noise_scale: -1}\n" + good.substr(8), "noise_scale"},
+      {"name: x\nmode: random\nconditions: {noise_scale: [3, 1]}\n" + good.substr(8), "min above max"},
+      {"name: x\n", "missing key 'scenes'"},
+      {"name: x\nscenes:\n  - {name: a, scene: s.yaml, targets: [{object: o}]}\n  - {name: a, scene: s.yaml, targets: [{object: o}]}\n", "duplicate"},
+      {"name: x\nscenes:\n  - {name: a, scene: s.yaml, targets: [{object: o, weak_rotation: w}]}\n", "weak_rotation"},
+      {"name: x\ntrials: 0\n" + good.substr(8), "trials"},
+      {"[1, 2", "not valid YAML"}};
+  for (const auto& [text, what] : cases) {
+    test::write_text(dir / "b.yaml", text);
+    try {
+      bench::load_benchmark(dir / "b.yaml");
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(dir / "b.yaml"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(bench::load_benchmark(dir / "missing.yaml"), Error);
+}
+
+TEST(Bench, GridTrialsAreDeterministicAndShardsPartitionThem) {
+  test::TempDir dir;
+  test::write_text(dir / "g.yaml", "name: g\ntrials: 5\nconditions: {noise_scale: [0.5, 1, 2], outlier_rate: [0, 0.01]}\n"
+                   "scenes:\n  - {name: a, scene: s.yaml, targets: [{object: o}]}\n  - {name: b, scene: s.yaml, targets: [{object: o}]}\n");
+  const auto b = bench::load_benchmark(dir / "g.yaml");
+  const auto t1 = bench::enumerate_trials(b), t2 = bench::enumerate_trials(b);
+  ASSERT_EQ(t1.size(), 2u * 3 * 2 * 5);  // scenes x noise x outliers x repetitions
+  std::set<uint64_t> seeds;
+  for (size_t i = 0; i < t1.size(); ++i) {
+    EXPECT_EQ(t1[i].seed, t2[i].seed);
+    EXPECT_EQ(t1[i].index, int(i));
+    seeds.insert(t1[i].seed);
+  }
+  EXPECT_EQ(seeds.size(), t1.size());  // every trial its own seed
+  std::vector<int> owner(t1.size(), -1);
+  for (int s = 0; s < 4; ++s)
+    for (const auto& t : t1)
+      if (bench::parse_shard(std::to_string(s) + "/4").contains(t)) {
+        EXPECT_EQ(owner[t.index], -1);
+        owner[t.index] = s;
+      }
+  for (int o : owner) EXPECT_GE(o, 0);  // every trial in exactly one shard
+  EXPECT_THROW(bench::parse_shard("4/4"), Error);
+  EXPECT_THROW(bench::parse_shard("1-4"), Error);
+}
+
+TEST(Bench, ThresholdsRoundTripAndAreValidated) {
+  test::TempDir dir;
+  registration::Thresholds t;
+  t.rho_rot_deg = 15, t.rho_icp_vox2 = 0.02, t.ransac_iterations = 2000, t.voxel_mm["needle"] = 0.03;
+  t.benchmark = "quick", t.seed = 7, t.train = "0:3", t.test = "3:6", t.held_out_registrations = 9;
+  t.held_out_success_rate = 0.875;
+  registration::write_thresholds(dir / "t.yaml", t);
+  const auto back = registration::load_thresholds(dir / "t.yaml");
+  EXPECT_EQ(back.rho_rot_deg, 15);
+  EXPECT_EQ(back.ransac_iterations, 2000);
+  EXPECT_EQ(back.voxel_mm.at("needle"), 0.03);
+  EXPECT_EQ(back.seed, 7u);
+  EXPECT_EQ(back.held_out_success_rate, 0.875);
+  registration::RegistrationSettings s;
+  back.apply(s, "needle");
+  EXPECT_EQ(s.pre.voxel_mm, 0.03);
+  EXPECT_EQ(s.rho_rot_deg, 15);
+
+  const std::string text = registration::thresholds_yaml(t);
+  auto broken = [&](const std::string& from, const std::string& to) {
+    std::string x = text;
+    const auto at = x.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    x.replace(at, from.size(), to);
+    test::write_text(dir / "bad.yaml", x);
+  };
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
+      {"rho_rot: {value: 15, unit: \"deg\"}", "rho_rot: {value: 15, unit: \"rad\"}", "expected 'deg'"},
+      {"rho_rot: {value: 15,", "rho_rot: {value: 500,", "out of range"},
+      {"  rho_icp:", "  rho_icp_typo:", "unknown key"},
+      {"  min_overlap: {value: 0.3, unit: \"fraction\"}\n", "", "missing key 'min_overlap'"},
+      {"schema: laserfit.thresholds/1", "schema: laserfit.thresholds/9", "schema"},
+      {"method: ceres", "method: magic", "unknown method"},
+      {"voxel: {value: 0.03,", "voxel: {value: .nan,", "not a finite number"}};
+  for (const auto& [from, to, what] : cases) {
+    broken(from, to);
+    try {
+      registration::load_thresholds(dir / "bad.yaml");
+      ADD_FAILURE() << "accepted " << to;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("bad.yaml"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// Tolerances: records compared exactly (every field but the measured timings).
+TEST(Bench, ShardsMergedEqualOneRunAndAnInterruptedRunResumes) {
+  test::TempDir dir;
+  const auto b = bench::load_benchmark(tiny_benchmark(dir, 4));
+  bench::run_benchmark(b, quiet_run(dir / "single"));
+  const auto single = without_timing(bench::read_results(dir / "single/results.jsonl"));
+  ASSERT_EQ(single.size(), 4u);
+  std::vector<std::string> shards;
+  for (int i = 0; i < 2; ++i) {
+    auto s = quiet_run(dir / ("shard" + std::to_string(i)));
+    s.shard = bench::parse_shard(std::to_string(i) + "/2");
+    s.jobs = 1;
+    bench::run_benchmark(b, s);
+    shards.push_back(s.out_dir);
+  }
+  bench::merge_runs(shards, dir / "merged");
+  EXPECT_EQ(without_timing(bench::read_results(dir / "merged/results.jsonl")), single);
+  EXPECT_THROW(bench::merge_runs({shards[0]}, dir / "half"), Error);  // a shard missing
+
+  // Interrupted: the journal holds the header, trial 1 and a torn line (killed mid-write).
+  const std::string journal = test::read_bytes(dir / "single/results.jsonl");
+  fs::create_directories(dir / "resumed");
+  io::Json header = io::read_json(dir / "single/run.json");
+  for (const char* k : {"jobs", "dataset", "trials", "resumed", "records", "wall_s", "trials_per_s"}) header.erase(k);
+  const auto all = bench::read_results(dir / "single/results.jsonl");
+  std::vector<io::Json> trial1;
+  for (const auto& r : all)
+    if (r.at("trial") == 1) trial1.push_back(r);
+  test::write_text(dir / "resumed/journal.jsonl", header.dump() + "\n" + io::Json{{"trial", 1}, {"records", trial1}}.dump() +
+                                                      "\n{\"trial\": 2, \"rec");
+  const auto sum = bench::run_benchmark(b, quiet_run(dir / "resumed"));
+  EXPECT_EQ(sum.resumed, 1u);  // trial 1 not repeated, the torn trial 2 run again
+  EXPECT_EQ(sum.trials, 4u);
+  EXPECT_EQ(without_timing(bench::read_results(dir / "resumed/results.jsonl")), single);
+  EXPECT_FALSE(fs::exists(dir / "resumed/journal.jsonl"));
+
+  // A journal of another run is refused, not mixed in.
+  fs::create_directories(dir / "other");
+  header["methods"] = {"gicp"};
+  test::write_text(dir / "other/journal.jsonl", header.dump() + "\n");
+  EXPECT_THROW(bench::run_benchmark(b, quiet_run(dir / "other")), Error);
+}
+
+TEST(Bench, DatasetIsByteIdenticalAndGivesTheSameRecordsAsMemory) {
+  test::TempDir dir;
+  const auto b = bench::load_benchmark(tiny_benchmark(dir, 2));
+  bench::generate_dataset(b, dir / "d1", 2);
+  bench::generate_dataset(b, dir / "d2", 1);
+  for (const char* f : {"manifest.json", "scans/0.pcd", "scans/1.pcd", "gt/1.json", "refs/usb_usb_a_receptacle.pcd"})
+    EXPECT_EQ(test::read_bytes(dir / (std::string("d1/") + f)), test::read_bytes(dir / (std::string("d2/") + f))) << f;
+  EXPECT_NO_THROW(bench::verify_dataset(dir / "d1"));
+
+  auto from_disk = quiet_run(dir / "disk");
+  from_disk.dataset_dir = dir / "d1";
+  bench::run_benchmark(b, from_disk);
+  bench::run_benchmark(b, quiet_run(dir / "memory"));
+  EXPECT_EQ(without_timing(bench::read_results(dir / "disk/results.jsonl")),
+            without_timing(bench::read_results(dir / "memory/results.jsonl")));
+
+  // One flipped byte in a scan: verification and the runner both name the file.
+  std::string scan = test::read_bytes(dir / "d2/scans/1.pcd");
+  scan[scan.size() / 2] ^= 0x5a;
+  test::write_text(dir / "d2/scans/1.pcd", scan);
+  try {
+    bench::verify_dataset(dir / "d2");
+    ADD_FAILURE() << "corruption not detected";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("scans/1.pcd"), std::string::npos) << e.what();
+  }
+  auto corrupt = quiet_run(dir / "corrupt");
+  corrupt.dataset_dir = dir / "d2";
+  EXPECT_THROW(bench::run_benchmark(b, corrupt), Error);
+}
+
+TEST(Bench, TuningWritesAValidatedThresholdsFileWithItsProvenance) {
+  test::TempDir dir;
+  const auto b = bench::load_benchmark(tiny_benchmark(dir, 2));
+  bench::TuneSettings s;
+  s.train = {0}, s.test = {1}, s.params = {"rho_rot"}, s.jobs = 2, s.progress = false;
+  const auto r = bench::tune(b, s);
+  registration::write_thresholds(dir / "t.yaml", r.thresholds);
+  const auto t = registration::load_thresholds(dir / "t.yaml");
+  EXPECT_EQ(t.benchmark, "tiny");
+  EXPECT_EQ(t.seed, 3u);
+  EXPECT_EQ(t.train, "0:1");
+  EXPECT_EQ(t.test, "1:2");
+  EXPECT_EQ(t.held_out_registrations, 1);  // one held-out trial, one target
+  EXPECT_EQ(r.history.size(), 3u);        // defaults + the two other rho_rot candidates
+  EXPECT_FALSE(r.baseline_train.better_than(r.best_train));  // never keeps a worse setting
+  s.test = {0};
+  EXPECT_THROW(bench::tune(b, s), Error);  // overlapping splits
+}
