@@ -11,11 +11,12 @@ DEB_PACKAGES := cmake ninja-build ccache g++ pkg-config \
   libeigen3-dev libpcl-dev libflann-dev libembree-dev libcgal-dev libassimp-dev libceres-dev \
   libocct-data-exchange-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev \
   libocct-foundation-dev libyaml-cpp-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev \
-  nlohmann-json3-dev libcli11-dev
+  nlohmann-json3-dev libcli11-dev libboost-dev libvtk9-dev xvfb xauth
 # Only for the Open3D baseline of `make bench-registration` (large; not needed to build or test).
 BENCH_PACKAGES := python3 python3-numpy python3-open3d
 
-.PHONY: all deps deps-bench install-packages configure build test demo cad bench bench-cad bench-scan bench-registration bench-registration-speed clean format
+.PHONY: all deps deps-bench install-packages configure build test demo cad bench bench-cad bench-scan \
+  bench-registration bench-registration-speed bench-quick bench-suites tune report clean format
 
 all: build
 
@@ -46,8 +47,8 @@ build: configure
 test: build
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
 
-# The main job on built-in data: import a real CAD file, make full and view-dependent reference
-# clouds of the project's USB plug, and say where everything is.
+# The main job on built-in data: import a real CAD file, make reference clouds and scans of the
+# built-in scenes, then the quick benchmark, the threshold tuning and the report.
 demo: build
 	@mkdir -p out/demo
 	$(BIN)/laserfit import tests/data/o2ac/02-PANEL.step -o out/demo/panel.ply
@@ -56,7 +57,42 @@ demo: build
 	$(BIN)/laserfit refcloud cad/needle.ply -o out/demo/needle_eye.pcd --density 2000 --method poisson --view "0 0 85 0 1 0 0" --seed 1
 	$(BIN)/laserfit scan datasets/scenes/needle_thread.yaml -o out/demo/needle_thread_scan.pcd --gt out/demo/needle_thread_gt.json
 	$(BIN)/laserfit scan datasets/scenes/usb_socket.yaml -o out/demo/usb_socket_scan.pcd --gt out/demo/usb_socket_gt.json
+	@$(MAKE) --no-print-directory bench-quick tune report
 	@echo; echo "demo outputs in out/demo/:"; ls -l out/demo
+	@echo "quick benchmark: $(BENCH_OUT)/quick/ (results.jsonl, summary.csv)"
+	@echo "tuned thresholds: $(THRESHOLDS)"
+	@echo "report: reports/quick/README.md"
+
+# --- benchmarks (batch work; see README "Benchmarks, tuning, reports") ---
+BENCH_OUT ?= out/bench
+BENCH_JOBS ?= $(JOBS)
+SUITES ?= needle usb taskboard stress
+THRESHOLDS ?= out/thresholds.yaml
+TUNE_BENCH ?= benchmarks/quick.yaml
+TUNE_PARAMS ?= rho_rot,rho_icp,max_rmse,min_overlap
+
+# The quick profile (about a minute on 2 cores).
+bench-quick: build
+	$(BIN)/laserfit bench benchmarks/quick.yaml --out $(BENCH_OUT)/quick --jobs $(BENCH_JOBS)
+
+# Threshold tuning on the first half of the repetitions, measured on the second half.
+tune: build
+	@mkdir -p $(dir $(THRESHOLDS))
+	$(BIN)/laserfit tune $(TUNE_BENCH) --params $(TUNE_PARAMS) --jobs $(BENCH_JOBS) -o $(THRESHOLDS) \
+	  --log $(basename $(THRESHOLDS))_search.json
+
+# Report of the quick profile (REPORT_RESULTS / REPORT_OUT for others).
+REPORT_RESULTS ?= $(BENCH_OUT)/quick/results.jsonl
+REPORT_OUT ?= reports/quick
+report: build
+	$(BIN)/laserfit report $(REPORT_RESULTS) -o $(REPORT_OUT)
+
+# The full suites, one report each in reports/<suite>/ (hours on 2 cores; resumable: rerun to go on).
+bench-suites: build
+	@for b in $(SUITES); do \
+	  $(BIN)/laserfit bench benchmarks/$$b.yaml --out $(BENCH_OUT)/$$b --jobs $(BENCH_JOBS) && \
+	  $(BIN)/laserfit report $(BENCH_OUT)/$$b/results.jsonl -o reports/$$b || exit 1; \
+	done
 
 # Regenerate the committed parametric CAD in cad/ (deterministic: same bytes every time).
 cad: build
@@ -72,18 +108,16 @@ bench-scan: build
 	$(BIN)/bench_scan --benchmark_out=reports/scan/bench_scan.json --benchmark_out_format=json \
 	  --benchmark_counters_tabular=true | tee reports/scan/bench_scan.txt
 
-# Registration accuracy campaign (benchmarks/registration.yaml; TRIALS=N overrides its count,
-# METHODS=a,b the methods) with the Open3D baseline on the same scans, table in reports/.
-TRIALS ?= 0
-METHODS ?= ceres,point_to_plane,point_to_point,gicp,ndt,paper
+# Registration accuracy campaign (benchmarks/registration.yaml, every method) with the Open3D
+# baseline on the same scans: the first O3D_TRIALS of each scene are generated as a dataset, Open3D
+# registers them, and one report puts everything side by side.
 REG_OUT := reports/registration
+O3D_TRIALS ?= 30
 bench-registration: build deps-bench bench-registration-speed
-	@mkdir -p $(REG_OUT) out/registration_dump
-	$(BIN)/registration_campaign benchmarks/registration.yaml --trials $(TRIALS) --methods $(METHODS) \
-	  --out $(REG_OUT) --dump out/registration_dump --dump-trials 50
-	/usr/bin/python3 benchmarks/registration/open3d_baseline.py out/registration_dump $(REG_OUT)/open3d.jsonl
-	/usr/bin/python3 benchmarks/registration/summarize.py $(REG_OUT)/results.jsonl $(REG_OUT)/open3d.jsonl \
-	  | tee $(REG_OUT)/table.md
+	$(BIN)/laserfit bench benchmarks/registration.yaml --out $(BENCH_OUT)/registration --jobs $(BENCH_JOBS)
+	$(BIN)/laserfit bench generate benchmarks/registration.yaml --repetitions 0:$(O3D_TRIALS) -o datasets/registration
+	/usr/bin/python3 benchmarks/registration/open3d_baseline.py datasets/registration $(BENCH_OUT)/registration/open3d.jsonl
+	$(BIN)/laserfit report $(BENCH_OUT)/registration/results.jsonl $(BENCH_OUT)/registration/open3d.jsonl -o $(REG_OUT)
 
 # Registration speed on a 1 M-point scan (Google Benchmark, run on an otherwise idle machine).
 bench-registration-speed: build
@@ -91,7 +125,7 @@ bench-registration-speed: build
 	$(BIN)/bench_registration --benchmark_out=$(REG_OUT)/bench_registration.json --benchmark_out_format=json \
 	  --benchmark_counters_tabular=true | tee $(REG_OUT)/bench_registration.txt
 
-bench: bench-cad bench-scan bench-registration
+bench: bench-cad bench-scan bench-registration bench-suites
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')

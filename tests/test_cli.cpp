@@ -32,7 +32,8 @@ const std::string kPlug = std::string(LASERFIT_SOURCE_DIR) + "/cad/usb_a_plug.pl
 TEST(Cli, HelpForEverySubcommand) {
   test::TempDir dir;
   EXPECT_EQ(run("--help", dir).code, 0);
-  for (const char* sub : {"import", "refcloud", "cad", "scan", "register"}) {
+  for (const char* sub : {"import", "refcloud", "cad", "scan", "register", "bench", "bench generate", "bench merge",
+                          "tune", "report"}) {
     const auto r = run(std::string(sub) + " --help", dir);
     EXPECT_EQ(r.code, 0) << sub;
     EXPECT_NE(r.out.find("--json"), std::string::npos) << sub;
@@ -118,6 +119,15 @@ TEST(Cli, BadInputOneLineNonZeroNoOutput) {
       {"register --scan " + (dir / "trunc.stl") + " --ref " + (dir / "trunc.stl"), ""},
       {"register --scan " + (dir / "nan.pcd") + " --ref " + (dir / "nan.pcd"), ""},
       {"scan " + kPanel + " -o " + cloud, cloud},  // not a scene file
+      {"register --scan " + (dir / "nan.pcd") + " --ref " + (dir / "nan.pcd") + " --thresholds " + (dir / "empty.obj"), ""},
+      {"bench " + (dir / "missing.yaml") + " --out " + (dir / "b"), dir / "b/results.jsonl"},
+      {"bench " + kPanel + " --out " + (dir / "b"), dir / "b/results.jsonl"},  // not a benchmark
+      {"bench " + std::string(LASERFIT_SOURCE_DIR) + "/benchmarks/quick.yaml --shard 5/4 --out " + (dir / "b"), dir / "b/results.jsonl"},
+      {"bench " + std::string(LASERFIT_SOURCE_DIR) + "/benchmarks/quick.yaml --methods magic --out " + (dir / "b"), dir / "b/results.jsonl"},
+      {"bench merge " + (dir / "nothing") + " -o " + (dir / "m"), dir / "m/results.jsonl"},
+      {"tune " + std::string(LASERFIT_SOURCE_DIR) + "/benchmarks/quick.yaml --train 0:3 --test 2:4 -o " + (dir / "t.yaml"), dir / "t.yaml"},
+      {"report " + (dir / "missing.jsonl") + " -o " + (dir / "rep"), dir / "rep/README.md"},
+      {"report " + (dir / "empty.obj") + " -o " + (dir / "rep"), dir / "rep/README.md"},
       {"scan " + std::string(LASERFIT_SOURCE_DIR) + "/datasets/scenes/needle_thread.yaml --noise maybe -o " + cloud, cloud},
   };
   for (const auto& [args, output] : cases) {

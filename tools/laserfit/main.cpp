@@ -15,7 +15,10 @@ int main(int argc, char** argv) {
                                                   laserfit::cli::add_refcloud(app),
                                                   laserfit::cli::add_cad(app),
                                                   laserfit::cli::add_scan(app),
-                                                  laserfit::cli::add_register(app)};
+                                                  laserfit::cli::add_register(app),
+                                                  laserfit::cli::add_bench(app),
+                                                  laserfit::cli::add_tune(app),
+                                                  laserfit::cli::add_report(app, argc, argv)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
