@@ -69,7 +69,7 @@ BENCH_JOBS ?= $(JOBS)
 SUITES ?= needle usb taskboard stress
 THRESHOLDS ?= out/thresholds.yaml
 TUNE_BENCH ?= benchmarks/quick.yaml
-TUNE_PARAMS ?= rho_rot,rho_icp,max_rmse,min_overlap
+TUNE_PARAMS ?= rho_rot,rho_icp,min_overlap
 
 # The quick profile (about a minute on 2 cores).
 bench-quick: build

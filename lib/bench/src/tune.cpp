@@ -7,6 +7,7 @@
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <sstream>
 #include <thread>
 
 #include "laserfit/bench/checksum.hpp"
@@ -20,7 +21,9 @@ bool Score::better_than(const Score& o) const {
   const double fa = records ? double(false_accepts) / records : 0, ofa = o.records ? double(o.false_accepts) / o.records : 0;
   if (fa != ofa) return fa < ofa;
   if (success_rate() != o.success_rate()) return success_rate() > o.success_rate();
-  return median_time_s < 0.9 * o.median_time_s;  // only a clear speed-up counts
+  if (median_t_um < 0.95 * o.median_t_um) return true;
+  if (median_t_um > 1.05 * o.median_t_um) return false;
+  return attempts < 0.9 * o.attempts;
 }
 
 const std::vector<std::pair<std::string, std::vector<double>>>& tunable_params() {
@@ -107,6 +110,7 @@ Score evaluate(const Benchmark& b, const std::map<int, PreparedScene>& scenes, c
       ++s.records;
       s.successes += r.at("success").get<bool>();
       s.false_accepts += r.at("false_accept").get<bool>();
+      s.attempts += r.at("attempts").get<int>();
       if (r.at("status") != "failed" && r.at("expect") == "pose") t.push_back(r.at("t_err_um"));
       time.push_back(r.at("timing").at("time_s"));
     }
@@ -117,6 +121,7 @@ Score evaluate(const Benchmark& b, const std::map<int, PreparedScene>& scenes, c
 
 io::Json score_json(const Score& s) {
   return {{"records", s.records}, {"success_rate", s.success_rate()}, {"false_accepts", s.false_accepts},
+          {"attempts", s.attempts},
           {"median_t_err_um", s.median_t_um}, {"median_time_s", s.median_time_s}};
 }
 
@@ -150,7 +155,8 @@ TuneResult tune(const Benchmark& b, const TuneSettings& s) {
   auto log = [&](const std::string& what, const Score& sc) {
     if (s.progress)
       std::cerr << "tune: " << what << ": success " << sc.success_rate() * 100 << " %, false accepts "
-                << sc.false_accepts << ", median " << sc.median_t_um << " um, " << sc.median_time_s << " s\n";
+                << sc.false_accepts << ", median " << sc.median_t_um << " um, " << sc.attempts << " attempts, "
+                << sc.median_time_s << " s\n";
   };
   Score best_score = evaluate(b, scenes, train, best, s.method, jobs);
   out.baseline_train = best_score;
@@ -166,7 +172,9 @@ TuneResult tune(const Benchmark& b, const TuneSettings& s) {
       set(cand, name, v);
       const Score sc = evaluate(b, scenes, train, cand, s.method, jobs);
       out.history.push_back({{"param", name}, {"value", v}, {"train", score_json(sc)}});
-      log(name + " = " + std::to_string(v), sc);
+      std::ostringstream what;
+      what << name << " = " << v;
+      log(what.str(), sc);
       if (sc.better_than(best_score)) best = cand, best_score = sc;
     }
   }
@@ -175,7 +183,8 @@ TuneResult tune(const Benchmark& b, const TuneSettings& s) {
   out.held_out = evaluate(b, scenes, test, best, s.method, jobs);
   registration::Thresholds defaults;
   defaults.method = s.method, defaults.voxel_mm = best.voxel_mm;
-  out.baseline_held_out = evaluate(b, scenes, test, defaults, s.method, jobs);
+  const bool unchanged = thresholds_yaml(defaults) == thresholds_yaml(best);
+  out.baseline_held_out = unchanged ? out.held_out : evaluate(b, scenes, test, defaults, s.method, jobs);
   log("held out, tuned", out.held_out);
   log("held out, defaults", out.baseline_held_out);
   best.benchmark = b.name, best.benchmark_file = b.file, best.benchmark_digest = hex32(uint32_t(b.digest));
