@@ -1,0 +1,28 @@
+#pragma once
+// The "true" robot of a simulation: the nominal model with seeded errors in its kinematic
+// parameters (as identified on real Pandas: link lengths 0.5-5 mm, angles 2-25 mrad), plus
+// repeatability noise on every reached pose. Its pose error therefore depends on the joint
+// configuration: a pose taught in one configuration (IC1) is reproduced to the repeatability,
+// the same pose reached with another elbow (IC2) is off by millimetres.
+#include <cstdint>
+#include <random>
+
+#include "laserfit/robot/arm.hpp"
+
+namespace laserfit::robot {
+
+struct ErrorModelSettings {
+  double length_min_mm = 0.5, length_max_mm = 5.0;     // |error| of every a and d, uniform, random sign
+  double angle_min_mrad = 2.0, angle_max_mrad = 25.0;  // |error| of every alpha and joint offset
+  double repeatability_mm = 0.1;                       // per reached pose: isotropic, std per axis
+  double repeatability_mrad = 0.1;                     //   and the same for orientation
+  void validate() const;                               // throws laserfit::Error on nonsense
+};
+
+// The true arm: nominal parameters plus errors drawn from `seed` (deterministic).
+ArmModel perturbed_arm(const ArmModel& nominal, const ErrorModelSettings& s, uint64_t seed);
+
+// A reached pose with repeatability noise: T * small random motion in the flange frame.
+Pose with_repeatability(const Pose& T, const ErrorModelSettings& s, std::mt19937_64& g);
+
+}  // namespace laserfit::robot
