@@ -94,7 +94,7 @@ std::string table_row(const std::string& head, const std::vector<const Json*>& r
 }
 
 const char* kTableHead =
-    "| trials | success | false accepts | ambiguous | failed | t error median / p95 (µm) | r error median / p95 (°) "
+    "| registrations | success | false accepts | ambiguous | failed | t error median / p95 (µm) | r error median / p95 (°) "
     "| time median / p95 (s) | peak memory (MiB) |\n";
 
 }  // namespace
@@ -137,8 +137,9 @@ ReportSummary make_report(const ReportSettings& s) {
        << run.value("trials", Json(0)).dump() << " trials, " << fmt(run.value("wall_s", 0.0)) << " s wall, "
        << run.value("jobs", Json(0)).dump() << " jobs\n";
   md << "\nSuccess: translation ≤ tolerance and rotation ≤ tolerance (modulo the part's symmetries) with status "
-        "`ok`, or `ambiguous` naming the part's (nearly) symmetric rotation with the rest of the pose within "
-        "tolerance; for a wrong-object trial, any status but `ok`. A false accept is an `ok` outside tolerance. "
+        "`ok`, or `ambiguous` naming a DoF the target declares unobservable from its view (a continuous "
+        "symmetry, `weak_rotation`, `weak_translation`) with the rest of the pose within tolerance; for a "
+        "wrong-object trial, any status but `ok`. A false accept is an `ok` outside tolerance. "
         "Errors are over the registrations that returned a pose (status not `failed`).\n\n";
   md << "## Per method\n\n| method " << kTableHead << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& [m, rs] : by_method) md << table_row(m, rs);
