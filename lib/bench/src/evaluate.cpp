@@ -62,15 +62,11 @@ WeakNamed names_weak(const registration::RegistrationResult& r, const Target& tg
   const bool continuous = tg.symmetry.kind == metrics::Symmetry::Kind::Continuous;
   const int declared = bool(tg.weak_rotation) + bool(tg.weak_translation) + continuous;
   if (r.status != registration::Status::Ambiguous || r.unobservable > declared) return {};
-  const auto& d = r.weakest_direction;
-  const bool rot = d.head<3>().norm() > d.tail<3>().norm();
-  const Eigen::Vector3d dir = (rot ? d.head<3>() : d.tail<3>()).normalized();
-  auto along = [&](const std::optional<Eigen::Vector3d>& axis) {
-    return axis && std::abs(dir.dot(truth.rotation() * *axis)) > std::cos(10 * M_PI / 180);
+  auto rot = [&](const std::optional<Eigen::Vector3d>& a) {
+    return a && registration::weakest_is_rotation_about(r, truth.rotation() * *a);
   };
-  const std::optional<Eigen::Vector3d> sym_axis =
-      continuous ? std::optional<Eigen::Vector3d>(tg.symmetry.axis) : std::nullopt;
-  const bool named = rot ? along(tg.weak_rotation) || along(sym_axis) : along(tg.weak_translation);
+  const bool named = rot(tg.weak_rotation) || (continuous && rot(tg.symmetry.axis)) ||
+                     (tg.weak_translation && registration::weakest_is_translation_along(r, truth.rotation() * *tg.weak_translation));
   if (!named) return {};
   return {bool(tg.weak_rotation), bool(tg.weak_translation)};
 }

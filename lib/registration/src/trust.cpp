@@ -112,3 +112,24 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
 }
 
 }  // namespace laserfit::registration
+
+namespace laserfit::registration {
+namespace {
+bool weakest_along(const RegistrationResult& r, bool rotation, const Eigen::Vector3d& axis, double tol_deg) {
+  if (r.status != Status::Ambiguous) return false;
+  const Vector6d& d = r.weakest_direction;
+  const bool rot = d.head<3>().norm() > d.tail<3>().norm();
+  if (rot != rotation) return false;
+  const Eigen::Vector3d dir = (rot ? d.head<3>() : d.tail<3>()).normalized();
+  return std::abs(dir.dot(axis.normalized())) > std::cos(tol_deg * M_PI / 180);
+}
+}  // namespace
+
+bool weakest_is_rotation_about(const RegistrationResult& r, const Eigen::Vector3d& axis, double tol_deg) {
+  return weakest_along(r, true, axis, tol_deg);
+}
+bool weakest_is_translation_along(const RegistrationResult& r, const Eigen::Vector3d& axis, double tol_deg) {
+  return weakest_along(r, false, axis, tol_deg);
+}
+
+}  // namespace laserfit::registration

@@ -1,6 +1,7 @@
 #include "laserfit/robot/error_model.hpp"
 
 #include <Eigen/Geometry>
+#include <cmath>
 
 #include "laserfit/core/error.hpp"
 #include "laserfit/core/rng.hpp"
@@ -14,6 +15,8 @@ void ErrorModelSettings::validate() const {
     throw Error("error model: angle errors need 0 <= min <= max < 200 mrad");
   if (!(repeatability_mm >= 0 && repeatability_mm < 10 && repeatability_mrad >= 0 && repeatability_mrad < 100))
     throw Error("error model: repeatability must be in 0..10 mm and 0..100 mrad");
+  if (!(repeatability_corr_mm >= 0 && repeatability_corr_mm < 1000))
+    throw Error("error model: repeatability correlation length must be in 0..1000 mm");
 }
 
 ArmModel perturbed_arm(const ArmModel& nominal, const ErrorModelSettings& s, uint64_t seed) {
@@ -34,6 +37,26 @@ ArmModel perturbed_arm(const ArmModel& nominal, const ErrorModelSettings& s, uin
   for (auto& r : t.joints) perturb(r);
   perturb(t.flange);
   return t;
+}
+
+namespace {
+Pose small_motion(const Eigen::Matrix<double, 6, 1>& e, const ErrorModelSettings& s) {
+  Pose d = Pose::Identity();
+  d.translation() = e.head<3>() * s.repeatability_mm;
+  const Eigen::Vector3d r = e.tail<3>() * (s.repeatability_mrad * 1e-3);
+  if (r.norm() > 0) d.linear() = Eigen::AngleAxisd(r.norm(), r.normalized()).toRotationMatrix();
+  return d;
+}
+}  // namespace
+
+Pose Repeatability::reach(const Pose& T, std::mt19937_64& g) {
+  Eigen::Matrix<double, 6, 1> fresh;
+  for (int i = 0; i < 6; ++i) fresh[i] = gauss(g);
+  const double d = started_ ? (T.translation() - last_).norm() : 1e300;
+  const double rho = s_.repeatability_corr_mm > 0 ? std::exp(-d / s_.repeatability_corr_mm) : 0.0;
+  e_ = rho * e_ + std::sqrt(1 - rho * rho) * fresh;
+  last_ = T.translation(), started_ = true;
+  return T * small_motion(e_, s_);
 }
 
 Pose with_repeatability(const Pose& T, const ErrorModelSettings& s, std::mt19937_64& g) {

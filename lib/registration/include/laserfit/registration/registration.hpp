@@ -105,6 +105,11 @@ RegistrationResult register_cloud(const PointCloud& scan, const PointCloud& ref,
 
 std::vector<std::string> refiner_names();
 
+// For an `ambiguous` result: is its weakest direction a rotation about / a translation along
+// `axis` (scan frame, unit), within `tol_deg`? (Which DoF the scan could not fix.)
+bool weakest_is_rotation_about(const RegistrationResult& r, const Eigen::Vector3d& axis, double tol_deg = 10);
+bool weakest_is_translation_along(const RegistrationResult& r, const Eigen::Vector3d& axis, double tol_deg = 10);
+
 // Splits a scan into parts by Euclidean clustering of its downsampled points (gap larger than
 // `tolerance_mm`), largest first; each part is returned at full resolution (the scan points in
 // the cluster's bounding box grown by one voxel). Clusters under `min_points` are dropped.

@@ -1,0 +1,83 @@
+#pragma once
+// The simulated dual-arm cell (issue 6): two Pandas in a shared world frame (the sensing arm's
+// base), the scanner on the sensing arm, the part (thread, plug) in the assembling arm's gripper,
+// the target (needle, socket) in the workspace. Everything the controller *believes* (nominal
+// kinematics, calibrated base-to-base, flange-to-sensor and grasp transforms) differs from the
+// truth by configured, seeded errors. Lengths mm, angles deg in files.
+#include <array>
+#include <string>
+#include <vector>
+
+#include "laserfit/robot/arm.hpp"
+#include "laserfit/robot/error_model.hpp"
+#include "laserfit/scan/scanner.hpp"
+
+namespace laserfit::cell {
+
+// A rigid error [x y z (mm), rx ry rz (deg)], applied on the right: true = believed * error.
+using RigidError = std::array<double, 6>;
+Pose error_pose(const RigidError& e);
+
+struct Clearance {
+  double x_mm = 0.075, y_mm = 0.075;  // half-widths at the mouth, target frame
+  double angle_deg = 2.0;             // between the part's and the required insertion axis
+};
+
+struct CellSettings {
+  std::string file, task;
+  scan::ScanScene scene;              // meshes, sensor, sweep (relative to the scene's target)
+  int target = -1, part = -1;         // scene objects
+  std::vector<Pose> target_poses;     // T_world_target of each test setting (truth)
+  Pose T_target_part_insert = Pose::Identity();  // part pose at insertion, target frame
+  Eigen::Vector3d approach_mm = {0, 0, 0};       // part's approach position, target frame
+  std::vector<double> stages;                    // verified waypoints toward the insertion, as
+                                                 // fractions of the approach distance (0..1)
+  Clearance clearance;
+  // The assembling arm: base in the world, the part in its gripper.
+  Pose T_world_baseA = Pose::Identity();
+  RigidError baseA_error{};           // believed base-to-base calibration -> true
+  Pose T_flange_part = Pose::Identity();
+  RigidError grasp_error{};
+  // The sensing arm (base = world): the scanner on its flange.
+  Pose T_flange_sensor = Pose::Identity();
+  RigidError sensor_error{};
+  robot::ErrorModelSettings arm_errors;
+  robot::Joints q_teach_hint = robot::Joints::Zero();  // assembling arm near IC1 when teaching
+  robot::Joints q_sense_hint = robot::Joints::Zero();  // sensing arm near its scan pose
+  double ic2_joint1_deg = 90;         // IC2 = IC1 with this added to joint 1
+  int start_configs = 10;             // q^(1..N), each farther from the insertion pose
+  double start_step_mm = 25;          //   the i-th starts i * step from it
+  // DoFs a registration may leave unobservable without harm (an `ambiguous` about them is
+  // accepted): the needle's spin about its shaft, the thread's slide along its own axis.
+  std::string target_weak_rotation, part_weak_translation;  // "" or x|y|z (object frame)
+};
+
+CellSettings load_cell(const std::string& path);  // strict YAML; errors name the file and key
+
+// One instance of the cell: the true arms drawn from `robot_seed`.
+struct Cell {
+  CellSettings s;
+  robot::ArmModel nominal, trueA, trueS;
+  Pose T_world_baseA_believed, T_world_baseA_true;
+  Pose T_flange_part_true, T_flange_sensor_true;
+
+  Cell(const CellSettings& settings, uint64_t robot_seed);
+  // Where the part really is when the assembling arm's joints are q (plus repeatability noise,
+  // correlated with the arm's previous poses through `rep`).
+  Pose part_true(const robot::Joints& qA, robot::Repeatability& rep, std::mt19937_64& g) const;
+  // Where the controller believes the part is (nominal kinematics, believed calibration).
+  Pose part_believed(const robot::Joints& qA) const;
+  Pose part_believed_from_flange(const Pose& T_baseA_flange) const;
+  // The flange pose (A's base, believed) that puts the part at T_world_part by the controller's belief.
+  Pose flange_for_part(const Pose& T_world_part) const;
+};
+
+// Insertion outcome of a true part pose against the true target: lateral offset where the part's
+// axis crosses the mouth plane, and the axis angle.
+struct Insertion {
+  bool success = false;
+  double x_mm = 0, y_mm = 0, angle_deg = 0;
+};
+Insertion check_insertion(const CellSettings& s, const Pose& T_world_target, const Pose& T_world_part);
+
+}  // namespace laserfit::cell

@@ -1,0 +1,68 @@
+#pragma once
+// The on-line controller (the paper's Section III-C and IV): reach the insertion pose with
+// proprioception only (IC1 / IC2), or approach, scan, register the target and the part, correct
+// the relative error with a short planned trajectory, verify by re-scanning, insert. Every
+// decision is logged; an `ambiguous` registration is used only when its unobservable DoF is one
+// the task declares harmless, a `failed` one triggers a re-scan (bounded), and a correction above
+// the amplitude limit is refused, never executed.
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "laserfit/cell/cell.hpp"
+#include "laserfit/core/cloud.hpp"
+#include "laserfit/io/json.hpp"
+#include "laserfit/planning/correction.hpp"
+#include "laserfit/registration/registration.hpp"
+#include "laserfit/registration/thresholds.hpp"
+#include "laserfit/robot/motion.hpp"
+
+namespace laserfit::controller {
+
+enum class Strategy { ProprioIC1, ProprioIC2, Laser, LaserPose };
+Strategy parse_strategy(const std::string& name);  // ic1 | ic2 | laser | laser_pose
+const char* strategy_name(Strategy s);
+
+struct ControllerSettings {
+  registration::Thresholds thresholds;  // from laserfit tune (validated by its loader)
+  planning::CorrectionSettings correction;
+  robot::MotionSettings motion;
+  int max_scans = 3;                    // scans per measurement (re-scan on a rejected registration)
+  int max_rounds = 3;                   // correction rounds, each verified by a new scan
+  double verify_mm = 0.02;              // measured lateral residual that ends the rounds
+  size_t reference_points = 60000;
+  std::string dump_dir;                 // non-empty: write every scan and the references here
+};
+
+// What one scan tells: the target's and the part's poses in the scan frame, or why not.
+struct Measurement {
+  bool ok = false;
+  std::string reason;
+  Pose T_scan_target = Pose::Identity(), T_scan_part = Pose::Identity();
+  bool part_axial_unknown = false;      // ambiguous along the part's own axis (harmless)
+  registration::RegistrationResult target, part;
+};
+
+// The decision from a measurement: the correction (world / scan frame, left-multiplied) that puts
+// the part at `T_target_part_goal` relative to the measured target.
+struct Correction {
+  Pose delta = Pose::Identity();
+  double lateral_mm = 0;                // residual perpendicular to the insertion axis
+  double angle_deg = 0;
+};
+Correction compute_correction(const Measurement& m, const Pose& T_target_part_goal, bool with_orientation);
+
+// Accept or reject a registration for the task (ok; or ambiguous about the declared harmless DoF).
+bool acceptable(const registration::RegistrationResult& r, const std::string& weak_rotation_axis,
+                const std::string& weak_translation_axis, const Pose& T_scan_object, std::string* why);
+
+Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const PointCloud& part_ref,
+                    const Pose& target_prior, const Pose& part_prior, const cell::CellSettings& cs,
+                    const ControllerSettings& s, uint64_t seed, std::vector<std::string>& log);
+
+// The trajectory for a correction: from the flange's believed pose (A's base) to the pose that
+// applies `delta` (world frame) through the believed base-to-base transform; refused if too large.
+planning::Trajectory plan(const cell::Cell& c, const Pose& T_baseA_flange, const Pose& delta, const ControllerSettings& s);
+
+}  // namespace laserfit::controller

@@ -1,0 +1,71 @@
+// Decisions from measurements: which registrations to trust, the relative correction, its plan.
+#include <Eigen/Geometry>
+#include <sstream>
+
+#include "laserfit/controller/controller.hpp"
+#include "laserfit/core/error.hpp"
+
+namespace laserfit::controller {
+
+Strategy parse_strategy(const std::string& n) {
+  if (n == "ic1") return Strategy::ProprioIC1;
+  if (n == "ic2") return Strategy::ProprioIC2;
+  if (n == "laser") return Strategy::Laser;
+  if (n == "laser_pose") return Strategy::LaserPose;
+  throw Error("unknown strategy '" + n + "' (ic1, ic2, laser, laser_pose)");
+}
+
+const char* strategy_name(Strategy s) {
+  switch (s) {
+    case Strategy::ProprioIC1: return "ic1";
+    case Strategy::ProprioIC2: return "ic2";
+    case Strategy::Laser: return "laser";
+    case Strategy::LaserPose: return "laser_pose";
+  }
+  return "?";
+}
+
+bool acceptable(const registration::RegistrationResult& r, const std::string& weak_rot, const std::string& weak_trans,
+                const Pose& T, std::string* why) {
+  if (r.status == registration::Status::Ok) return true;
+  if (r.status == registration::Status::Ambiguous && r.unobservable <= 2) {
+    auto axis = [&](const std::string& a) { return Eigen::Vector3d(T.linear().col(a[0] - 'x')); };
+    if (!weak_rot.empty() && registration::weakest_is_rotation_about(r, axis(weak_rot))) return true;
+    if (!weak_trans.empty() && registration::weakest_is_translation_along(r, axis(weak_trans))) return true;
+  }
+  *why = std::string(registration::status_name(r.status)) + (r.reason.empty() ? "" : " (" + r.reason + ")");
+  return false;
+}
+
+Correction compute_correction(const Measurement& m, const Pose& T_target_part_goal, bool with_orientation) {
+  const Pose goal = m.T_scan_target * T_target_part_goal;  // where the part must be, scan frame
+  Correction c;
+  Eigen::Vector3d dt = goal.translation() - m.T_scan_part.translation();
+  const Eigen::Vector3d axis = goal.linear().col(2);       // the insertion axis
+  // An axial position the scan could not fix is not corrected (it is the insertion motion's job).
+  if (m.part_axial_unknown) {
+    const Eigen::Vector3d a = m.T_scan_part.linear().col(2);
+    dt -= a * a.dot(dt);
+  }
+  c.lateral_mm = (dt - axis * axis.dot(dt)).norm();
+  const Eigen::Matrix3d dR = goal.linear() * m.T_scan_part.linear().transpose();
+  c.angle_deg = Eigen::AngleAxisd(dR).angle() * 180 / M_PI;
+  if (with_orientation) {
+    // Rotate about the part's tip, then translate: the tip lands on the goal.
+    c.delta.linear() = dR;
+    c.delta.translation() = m.T_scan_part.translation() + dt - dR * m.T_scan_part.translation();
+  } else {
+    c.delta.translation() = dt;
+  }
+  return c;
+}
+
+planning::Trajectory plan(const cell::Cell& c, const Pose& T_baseA_flange, const Pose& delta, const ControllerSettings& s) {
+  // delta acts in the world (the scan frame); in A's base it is conjugated by the believed base
+  // transform, so only its rotation part matters for a translation: calibration errors cancel.
+  const Pose& B = c.T_world_baseA_believed;
+  const Pose goal = B.inverse() * delta * B * T_baseA_flange;
+  return planning::plan_correction(T_baseA_flange, goal, s.correction);
+}
+
+}  // namespace laserfit::controller

@@ -1,0 +1,136 @@
+// One insertion attempt with a strategy, judged on the true poses.
+#include <chrono>
+#include <sstream>
+
+#include "laserfit/controller/sim.hpp"
+#include "laserfit/core/rng.hpp"
+#include "laserfit/io/cloud_io.hpp"
+
+namespace laserfit::controller {
+namespace {
+
+std::string fmt(double v) {
+  std::ostringstream o;
+  o.precision(4);
+  o << v;
+  return o.str();
+}
+
+// Moves the assembling arm (nominal model, null-space pull to q_ref) and returns where the part
+// truly ends up; the arm's joints are updated.
+Pose move(const cell::Cell& c, robot::Joints& q, const Pose& goal, const robot::Joints& q_ref,
+          const robot::MotionSettings& ms, robot::Repeatability& rep, std::mt19937_64& g) {
+  q = robot::move_cartesian(c.nominal, q, goal, q_ref, ms).q;
+  return c.part_true(q, rep, g);
+}
+
+}  // namespace
+
+Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy, int start, uint64_t seed,
+                      const ControllerSettings& s) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto& cs = c.s;
+  Outcome o;
+  o.strategy = strategy, o.setting = su.setting, o.start = start, o.seed = seed;
+  std::mt19937_64 g = block_rng(seed, 0xC0, 0);
+  robot::Joints q = su.q_start.at(start);
+  robot::Repeatability rep(cs.arm_errors);
+  const robot::Joints& q_ref = strategy == Strategy::ProprioIC1 ? su.q_taught : su.q_ic2_ref;
+  auto finish = [&](const Pose& part) {
+    o.insertion = cell::check_insertion(cs, su.T_world_target, part);
+    o.success = o.insertion.success;
+    if (o.result.empty()) o.result = o.success ? "inserted" : "missed";
+    o.log.push_back("insertion: lateral (" + fmt(o.insertion.x_mm * 1e3) + ", " + fmt(o.insertion.y_mm * 1e3) +
+                    ") um, axis " + fmt(o.insertion.angle_deg) + " deg -> " + o.result);
+    o.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return o;
+  };
+  if (strategy == Strategy::ProprioIC1 || strategy == Strategy::ProprioIC2) {
+    o.log.push_back(std::string("proprioception only, ") + (strategy == Strategy::ProprioIC1 ? "IC1" : "IC2") +
+                    ": reach the recorded insertion pose from start " + std::to_string(start + 1));
+    return finish(move(c, q, su.p_ins, q_ref, s.motion, rep, g));
+  }
+  // Laser feedback: approach (IC2), then scan, register, correct, verify; finally insert.
+  Pose approach = cs.T_target_part_insert;
+  approach.translation() = cs.approach_mm;
+  Pose part = move(c, q, c.flange_for_part(su.T_world_target_believed * approach), q_ref, s.motion, rep, g);
+  o.log.push_back("approach with IC2 from start " + std::to_string(start + 1));
+  const bool orient = strategy == Strategy::LaserPose;
+  Measurement m;
+  auto refuse = [&](const std::string& why) {
+    o.result = "refused: " + why;
+    o.log.push_back(o.result);
+    o.insertion = cell::check_insertion(cs, su.T_world_target, part);
+    o.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return o;  // never insert blind
+  };
+  // Moves the part by `v` (scan / world frame) holding the elbow: a null-space drift toward IC2
+  // would move the true flange by the model error while the nominal one stays put.
+  auto shift = [&](const Pose& delta, double min_duration_s) {
+    robot::MotionSettings ms = s.motion;
+    ms.min_duration_s = min_duration_s;
+    const robot::Joints hold = q;
+    const Pose& B = c.T_world_baseA_believed;
+    part = move(c, q, B.inverse() * delta * B * c.nominal.fk(q), hold, ms, rep, g);
+  };
+  // Waypoints from the approach toward the insertion, each reached and verified by scans: an
+  // unverified move of d mm on an arm whose model is off by a few degrees lands d * sin(error)
+  // off, so the last unverified step is kept short.
+  std::vector<double> fractions = {0.0};
+  fractions.insert(fractions.end(), cs.stages.begin(), cs.stages.end());
+  Pose way = approach;
+  for (size_t w = 0; w < fractions.size(); ++w) {
+    Pose next = approach;
+    next.translation() = cs.T_target_part_insert.translation() +
+                         (cs.approach_mm - cs.T_target_part_insert.translation()) * (1 - fractions[w]);
+    if (w > 0) {
+      Pose d = Pose::Identity();
+      d.translation() = m.T_scan_target.linear() * (next.translation() - way.translation());
+      shift(d, s.motion.min_duration_s);
+      o.log.push_back("stage " + std::to_string(w) + ": " + fmt(100 * fractions[w]) + " % of the way in");
+    }
+    way = next;
+    for (int round = 0; round <= s.max_rounds; ++round, ++o.rounds) {
+      m = Measurement{};
+      for (int k = 0; k < s.max_scans && !m.ok; ++k) {  // scan until the registrations are trusted
+        const uint64_t scan_seed = mix_seed(seed ^ (uint64_t(o.scans) << 32));
+        const PointCloud scan = scan_cell(c, su, part, scan_seed, g);
+        ++o.scans;
+        if (!s.dump_dir.empty()) {
+          const std::string tag = "_s" + std::to_string(su.setting);
+          io::write_cloud(s.dump_dir + "/" + strategy_name(strategy) + tag + "_start" + std::to_string(start + 1) +
+                              "_scan" + std::to_string(o.scans) + ".pcd", scan);
+          io::write_cloud(s.dump_dir + "/target_ref" + tag + ".pcd", su.target_ref);
+          io::write_cloud(s.dump_dir + "/part_ref" + tag + ".pcd", su.part_ref);
+        }
+        m = measure(scan, su.target_ref, su.part_ref, su.T_world_target_believed, c.part_believed(q), cs, s, scan_seed, o.log);
+      }
+      if (!m.ok) return refuse(m.reason + " after " + std::to_string(s.max_scans) + " scans");
+      // The pose strategy corrects the orientation in the first round, the position after.
+      const Correction corr = compute_correction(m, way, orient && o.rounds == 0);
+      o.log.push_back("round " + std::to_string(o.rounds + 1) + ": measured lateral error " +
+                      fmt(corr.lateral_mm * 1e3) + " um, axis " + fmt(corr.angle_deg) + " deg");
+      const bool settled = corr.lateral_mm < s.verify_mm && (!orient || corr.angle_deg < cs.clearance.angle_deg / 2);
+      if ((settled && (round > 0 || w > 0)) || round == s.max_rounds) break;
+      const planning::Trajectory tr = plan(c, c.nominal.fk(q), corr.delta, s);
+      if (!tr.ok) return refuse(tr.reason);
+      shift(corr.delta, tr.duration_s);
+      o.log.push_back("corrected: " + fmt(tr.translation_mm * 1e3) + " um, " + fmt(tr.rotation_deg) + " deg in " +
+                      fmt(tr.duration_s) + " s");
+    }
+  }
+  // Insert: the last step, along the measured target.
+  Pose d = Pose::Identity();
+  d.translation() = m.T_scan_target.linear() * (cs.T_target_part_insert.translation() - way.translation());
+  shift(d, s.motion.min_duration_s);
+  return finish(part);
+}
+
+io::Json outcome_json(const Outcome& o) {
+  return {{"strategy", strategy_name(o.strategy)}, {"setting", o.setting}, {"start", o.start + 1},
+          {"seed", o.seed}, {"success", o.success}, {"result", o.result},
+          {"lateral_um", {o.insertion.x_mm * 1e3, o.insertion.y_mm * 1e3}}, {"angle_deg", o.insertion.angle_deg},
+          {"scans", o.scans}, {"rounds", o.rounds}, {"time_s", o.time_s}, {"log", o.log}};
+}
+
+}  // namespace laserfit::controller
