@@ -16,7 +16,7 @@ DEB_PACKAGES := cmake ninja-build ccache g++ pkg-config \
 BENCH_PACKAGES := python3 python3-numpy python3-open3d
 
 .PHONY: all deps deps-bench install-packages configure build test demo cad bench bench-cad bench-scan \
-  bench-registration bench-registration-speed bench-quick bench-suites tune report clean format
+  bench-registration bench-registration-speed bench-quick bench-suites tune report paper clean format
 
 all: build
 
@@ -126,6 +126,19 @@ bench-registration-speed: build
 	  --benchmark_counters_tabular=true | tee $(REG_OUT)/bench_registration.txt
 
 bench: bench-cad bench-scan bench-registration bench-suites
+
+# Reproduce the paper's Tables I and II in the simulated cell (3 needle poses x 10 starts; USB
+# 10 starts), every strategy, with the tuned thresholds; outcomes and decision logs in reports/paper/.
+PAPER_TRIALS ?= 0
+paper: build
+	@test -f $(THRESHOLDS) || $(MAKE) --no-print-directory tune
+	@mkdir -p reports/paper
+	@for c in needle usb; do \
+	  $(BIN)/laserfit-controller sim --cell cells/$$c.yaml --thresholds $(THRESHOLDS) --strategy ic1,ic2,laser \
+	    --trials $(PAPER_TRIALS) --jobs $(BENCH_JOBS) --out reports/paper/$${c}_trials.jsonl --json \
+	    > reports/paper/$${c}_summary.json.tmp && mv reports/paper/$${c}_summary.json.tmp reports/paper/$${c}_summary.json \
+	  || exit 1; cat reports/paper/$${c}_summary.json; \
+	done
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')

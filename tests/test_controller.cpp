@@ -1,0 +1,125 @@
+// The simulated cell and the controller's decisions: cell files, the insertion check, motion on
+// the nominal model, proprioception IC1 vs IC2 from the error model, refusals (a correction above
+// the amplitude limit, an ambiguous or failed registration).
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include "laserfit/controller/sim.hpp"
+#include "laserfit/core/error.hpp"
+#include "laserfit/robot/motion.hpp"
+#include "test_util.hpp"
+
+using namespace laserfit;
+
+namespace {
+const std::string kCells = std::string(LASERFIT_SOURCE_DIR) + "/cells/";
+}
+
+TEST(Controller, CellFilesLoadAndBadOnesNameTheProblem) {
+  const auto c = cell::load_cell(kCells + "needle.yaml");
+  EXPECT_EQ(c.target_poses.size(), 3u);
+  EXPECT_EQ(c.scene.objects[c.part].name, "thread_tip");
+  test::TempDir dir;
+  std::string text = test::read_bytes(kCells + "needle.yaml");
+  const std::string rel = "../datasets/scenes/needle_thread.yaml";  // relative to cells/: made absolute
+  text.replace(text.find(rel), rel.size(), kCells + rel);
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
+      {"clearance: {x_mm: 0.425,", "clearance: {x_mm: -1,", "clearance"},
+      {"part: thread_tip", "part: spool", "no object 'spool'"},
+      {"start_configs: 10", "start_confgs: 10", "unknown key"},
+      {"base_error: [0.8, -0.5, 0.3,", "base_error: [80, -0.5, 0.3,", "not a calibration error"}};
+  for (const auto& [from, to, what] : cases) {
+    std::string t = text;
+    ASSERT_NE(t.find(from), std::string::npos) << from;
+    t.replace(t.find(from), from.size(), to);
+    const std::string path = dir / "bad_cell.yaml";
+    test::write_text(path, t);
+    try {
+      cell::load_cell(path);
+      ADD_FAILURE() << "accepted " << to;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("bad_cell.yaml"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// Tolerance: the clearance itself (0.425 / 0.085 mm, 10 deg for the needle), to 1 um.
+TEST(Controller, InsertionCheckUsesTheClearanceAtTheMouth) {
+  const auto cs = cell::load_cell(kCells + "needle.yaml");
+  const Pose target = cs.target_poses[0];
+  Pose part = target * cs.T_target_part_insert;
+  EXPECT_TRUE(cell::check_insertion(cs, target, part).success);
+  Pose off = part;
+  off.translation() += target.linear() * Eigen::Vector3d(0, cs.clearance.y_mm + 0.001, 0);
+  EXPECT_FALSE(cell::check_insertion(cs, target, off).success);
+  off = part;
+  off.translation() += target.linear() * Eigen::Vector3d(cs.clearance.x_mm - 0.001, 0, 0.5);  // above, in x
+  EXPECT_TRUE(cell::check_insertion(cs, target, off).success);
+  Pose tilted = part;
+  tilted.linear() = part.linear() * Eigen::AngleAxisd(11 * M_PI / 180, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  EXPECT_FALSE(cell::check_insertion(cs, target, tilted).success);
+}
+
+// Tolerance: the nominal flange ends within 1 um / 1e-5 rad of the goal.
+TEST(Controller, CartesianMotionReachesItsGoal) {
+  const auto arm = robot::ArmModel::panda();
+  robot::Joints q;
+  q << 0, -M_PI / 4, 0, -3 * M_PI / 4, 0, M_PI / 2, M_PI / 4;
+  Pose goal = arm.fk(q);
+  goal.translation() += Eigen::Vector3d(60, -40, -80);
+  const auto r = robot::move_cartesian(arm, q, goal, q);
+  EXPECT_TRUE(r.reached) << r.nominal_error_mm;
+  EXPECT_TRUE(r.limits_ok);
+}
+
+// The proprioception rows come out of the error model: replaying the taught configuration (IC1)
+// misses by the repeatability, another elbow (IC2) by millimetres.
+TEST(Controller, ProprioceptionIc1BeatsIc2) {
+  const auto cs = cell::load_cell(kCells + "needle.yaml");
+  controller::ControllerSettings s;
+  const cell::Cell c(cs, 7);
+  int ic1 = 0, ic2 = 0;
+  double ic2_err = 1e9;
+  for (int k = 0; k < 3; ++k) {
+    const auto su = controller::prepare_setting(c, k, s, 7);
+    for (int start = 0; start < cs.start_configs; ++start) {
+      ic1 += controller::run_insertion(c, su, controller::Strategy::ProprioIC1, start, 100 + start, s).success;
+      const auto o = controller::run_insertion(c, su, controller::Strategy::ProprioIC2, start, 100 + start, s);
+      ic2 += o.success;
+      ic2_err = std::min(ic2_err, std::hypot(o.insertion.x_mm, o.insertion.y_mm));
+    }
+  }
+  EXPECT_GE(ic1, 15);          // of 30: most IC1 insertions work (the paper: 60 %)
+  EXPECT_EQ(ic2, 0);           // none with IC2 (the paper: 0 %)
+  EXPECT_GT(ic2_err, 0.3);     // every IC2 attempt misses by more than 0.3 mm
+}
+
+TEST(Controller, RefusesLargeCorrectionsAndUntrustedRegistrations) {
+  const auto cs = cell::load_cell(kCells + "usb.yaml");
+  controller::ControllerSettings s;
+  const cell::Cell c(cs, 1);
+  robot::Joints q;
+  q << 0, -M_PI / 4, 0, -3 * M_PI / 4, 0, M_PI / 2, M_PI / 4;
+  Pose delta = Pose::Identity();
+  delta.translation() = Eigen::Vector3d(0, s.correction.max_translation_mm + 0.5, 0);
+  const auto tr = controller::plan(c, c.nominal.fk(q), delta, s);
+  EXPECT_FALSE(tr.ok);
+  EXPECT_TRUE(tr.samples.empty());
+  delta.translation() = Eigen::Vector3d(0.3, -0.2, 0);
+  EXPECT_TRUE(controller::plan(c, c.nominal.fk(q), delta, s).ok);
+
+  registration::RegistrationResult r;
+  std::string why;
+  r.status = registration::Status::Failed;
+  EXPECT_FALSE(controller::acceptable(r, "", "z", Pose::Identity(), &why));
+  r.status = registration::Status::Ambiguous, r.unobservable = 1;
+  r.weakest_direction << 0, 0, 0, 1, 0, 0;  // sliding along x: not the declared z
+  EXPECT_FALSE(controller::acceptable(r, "", "z", Pose::Identity(), &why));
+  EXPECT_NE(why.find("ambiguous"), std::string::npos);
+  r.weakest_direction << 0, 0, 0, 0, 0, 1;  // along the part's z: harmless, accepted
+  EXPECT_TRUE(controller::acceptable(r, "", "z", Pose::Identity(), &why));
+  r.status = registration::Status::Ok;
+  EXPECT_TRUE(controller::acceptable(r, "", "", Pose::Identity(), &why));
+}
