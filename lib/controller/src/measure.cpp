@@ -19,6 +19,7 @@ registration::RegistrationResult register_one(const PointCloud& scan, const Poin
   registration::RegistrationSettings rs;
   s.thresholds.apply(rs, object);
   rs.prior = prior;
+  rs.prior_radius_mm = s.prior_radius_mm;
   rs.q0 = Eigen::Quaterniond(prior.rotation());
   rs.pre.use_viewpoint = true, rs.pre.viewpoint = viewpoint(scan);
   rs.seed = seed;

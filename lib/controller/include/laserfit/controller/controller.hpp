@@ -32,6 +32,8 @@ struct ControllerSettings {
   int max_rounds = 3;                   // correction rounds, each verified by a new scan
   double verify_mm = 0.02;              // measured lateral residual that ends the rounds
   size_t reference_points = 60000;
+  double prior_radius_mm = 1.0;         // scan points this near a prior-placed reference are a
+                                        // candidate part (else the clusters nearest the prior)
   std::string dump_dir;                 // non-empty: write every scan and the references here
 };
 
