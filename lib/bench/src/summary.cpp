@@ -7,6 +7,24 @@
 
 namespace laserfit::bench {
 
+GroupStats group_stats(const std::vector<const io::Json*>& rs) {
+  GroupStats g;
+  std::vector<double> t, r, time;
+  for (const auto* x : rs) {
+    ++g.records;
+    g.successes += x->at("success").get<bool>(), g.false_accepts += x->at("false_accept").get<bool>();
+    const std::string st = x->at("status");
+    g.ambiguous += st == "ambiguous", g.failed += st == "failed";
+    if (st != "failed" && x->at("expect") == "pose") t.push_back(x->at("t_err_um")), r.push_back(x->at("r_err_deg"));
+    time.push_back(x->at("timing").at("time_s"));
+    g.peak_rss_mb = std::max(g.peak_rss_mb, x->at("timing").at("peak_rss_mb").get<double>());
+  }
+  g.t_median_um = metrics::median(t), g.t_p95_um = metrics::quantile(t, 0.95);
+  g.r_median_deg = metrics::median(r), g.r_p95_deg = metrics::quantile(r, 0.95);
+  g.time_median_s = metrics::median(time), g.time_p95_s = metrics::quantile(time, 0.95);
+  return g;
+}
+
 std::string summary_csv(const std::vector<io::Json>& records) {
   using Key = std::tuple<std::string, std::string, std::string>;
   std::map<Key, std::vector<const io::Json*>> groups;
@@ -20,24 +38,11 @@ std::string summary_csv(const std::vector<io::Json>& records) {
   o << "method,scene,object,records,success_rate,false_accepts,ambiguous,failed,t_err_um_median,t_err_um_p95,"
        "r_err_deg_median,r_err_deg_p95,time_s_median,time_s_p95,peak_rss_mb_max\n";
   for (const auto& [key, rs] : groups) {
-    std::vector<double> t, r, time;
-    double peak = 0;
-    int ok = 0, fa = 0, amb = 0, failed = 0;
-    for (const auto* x : rs) {
-      ok += x->at("success").get<bool>(), fa += x->at("false_accept").get<bool>();
-      const std::string st = x->at("status");
-      amb += st == "ambiguous", failed += st == "failed";
-      if (st != "failed" && x->at("expect") == "pose") {
-        t.push_back(x->at("t_err_um")), r.push_back(x->at("r_err_deg"));
-      }
-      time.push_back(x->at("timing").at("time_s"));
-      peak = std::max(peak, x->at("timing").at("peak_rss_mb").get<double>());
-    }
+    const GroupStats g = group_stats(rs);
     const auto& [m, scene, object] = key;
-    o << m << ',' << scene << ',' << object << ',' << rs.size() << ',' << double(ok) / rs.size() << ',' << fa << ','
-      << amb << ',' << failed << ',' << metrics::median(t) << ',' << metrics::quantile(t, 0.95) << ','
-      << metrics::median(r) << ',' << metrics::quantile(r, 0.95) << ',' << metrics::median(time) << ','
-      << metrics::quantile(time, 0.95) << ',' << peak << '\n';
+    o << m << ',' << scene << ',' << object << ',' << g.records << ',' << g.success_rate() << ',' << g.false_accepts
+      << ',' << g.ambiguous << ',' << g.failed << ',' << g.t_median_um << ',' << g.t_p95_um << ',' << g.r_median_deg
+      << ',' << g.r_p95_deg << ',' << g.time_median_s << ',' << g.time_p95_s << ',' << g.peak_rss_mb << '\n';
   }
   return o.str();
 }

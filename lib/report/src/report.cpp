@@ -74,22 +74,12 @@ Series success_vs(const std::string& name, const std::vector<const Json*>& rs, c
 }
 
 std::string table_row(const std::string& head, const std::vector<const Json*>& rs) {
-  std::vector<double> t, r, time;
-  double peak = 0;
-  int ok = 0, fa = 0, amb = 0, failed = 0;
-  for (const auto* x : rs) {
-    ok += x->at("success").get<bool>(), fa += x->at("false_accept").get<bool>();
-    const std::string st = x->at("status");
-    amb += st == "ambiguous", failed += st == "failed";
-    if (st != "failed" && x->at("expect") == "pose") t.push_back(x->at("t_err_um")), r.push_back(x->at("r_err_deg"));
-    time.push_back(x->at("timing").at("time_s"));
-    peak = std::max(peak, x->at("timing").at("peak_rss_mb").get<double>());
-  }
+  const bench::GroupStats g = bench::group_stats(rs);
   std::ostringstream o;
-  o << "| " << head << " | " << rs.size() << " | " << fmt(100.0 * ok / rs.size(), 4) << " % | " << fa << " | " << amb
-    << " | " << failed << " | " << fmt(metrics::median(t)) << " / " << fmt(metrics::quantile(t, 0.95)) << " | "
-    << fmt(metrics::median(r)) << " / " << fmt(metrics::quantile(r, 0.95)) << " | " << fmt(metrics::median(time))
-    << " / " << fmt(metrics::quantile(time, 0.95)) << " | " << fmt(peak, 4) << " |\n";
+  o << "| " << head << " | " << g.records << " | " << fmt(100.0 * g.success_rate(), 4) << " % | " << g.false_accepts
+    << " | " << g.ambiguous << " | " << g.failed << " | " << fmt(g.t_median_um) << " / " << fmt(g.t_p95_um) << " | "
+    << fmt(g.r_median_deg) << " / " << fmt(g.r_p95_deg) << " | " << fmt(g.time_median_s) << " / "
+    << fmt(g.time_p95_s) << " | " << fmt(g.peak_rss_mb, 4) << " |\n";
   return o.str();
 }
 
