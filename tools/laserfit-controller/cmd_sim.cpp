@@ -1,16 +1,15 @@
 // laserfit-controller sim --cell C.yaml --thresholds T.yaml --strategy ic1,ic2,laser [--trials N]
-#include <atomic>
 #include <filesystem>
 #include <iostream>
 #include <map>
 #include <mutex>
 #include <sstream>
-#include <thread>
 
 #include "commands.hpp"
 #include "laserfit/controller/sim.hpp"
 #include "laserfit/core/atomic_file.hpp"
 #include "laserfit/core/error.hpp"
+#include "laserfit/core/parallel.hpp"
 #include "laserfit/core/rng.hpp"
 
 namespace laserfit::ctl {
@@ -48,34 +47,19 @@ int run(const Options& o) {
       setups.emplace(std::make_pair(robot, setting), prepare_setting(*cells[robot], setting, s, o.seed + robot));
   }
   std::vector<Outcome> out(trials * strategies.size());
-  std::atomic<size_t> next{0}, done{0};
+  size_t done = 0;
   std::mutex m;
-  std::string err;
-  auto worker = [&] {
-    for (size_t k; (k = next++) < out.size();) {
-      const int i = int(k / strategies.size());
-      const Strategy st = strategies[k % strategies.size()];
-      const int robot = i / per_robot, setting = i % int(cs.target_poses.size());
-      const int start = (i / int(cs.target_poses.size())) % cs.start_configs;
-      try {
-        out[k] = run_insertion(*cells[robot], setups.at({robot, setting}), st, start, mix_seed(o.seed ^ (uint64_t(i) << 8)), s);
-      } catch (const std::exception& e) {
-        std::lock_guard<std::mutex> l(m);
-        err = e.what();
-        next = out.size();
-      }
-      const size_t d = ++done;
-      if (!o.quiet && (st != Strategy::ProprioIC1 && st != Strategy::ProprioIC2)) {
-        std::lock_guard<std::mutex> l(m);
-        std::cerr << "\rsim: " << d << "/" << out.size() << std::flush;
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int j = 0; j < std::max(1, o.jobs); ++j) pool.emplace_back(worker);
-  for (auto& t : pool) t.join();
+  parallel_for(out.size(), o.jobs, [&](size_t k) {
+    const int i = int(k / strategies.size());
+    const Strategy st = strategies[k % strategies.size()];
+    const int robot = i / per_robot, setting = i % int(cs.target_poses.size());
+    const int start = (i / int(cs.target_poses.size())) % cs.start_configs;
+    out[k] = run_insertion(*cells[robot], setups.at({robot, setting}), st, start, mix_seed(o.seed ^ (uint64_t(i) << 8)), s);
+    std::lock_guard<std::mutex> l(m);
+    ++done;
+    if (!o.quiet) std::cerr << "\rsim: " << done << "/" << out.size() << std::flush;
+  });
   if (!o.quiet) std::cerr << "\r";
-  if (!err.empty()) throw Error(err);
   std::map<std::string, std::pair<int, int>> rate;  // strategy -> (successes, trials)
   std::map<std::string, std::map<int, std::pair<int, int>>> by_setting;
   std::string lines;

@@ -1,16 +1,14 @@
 #include "laserfit/bench/dataset.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <filesystem>
-#include <mutex>
-#include <thread>
 
 #include "laserfit/bench/checksum.hpp"
 #include "laserfit/bench/trial.hpp"
 #include "laserfit/core/atomic_file.hpp"
 #include "laserfit/core/error.hpp"
+#include "laserfit/core/parallel.hpp"
 #include "laserfit/io/cloud_io.hpp"
 
 namespace laserfit::bench {
@@ -37,35 +35,20 @@ DatasetSummary generate_dataset(const Benchmark& b, const std::string& dir, int 
       ref_files.push_back({{"path", rel}, {"bytes", fs::file_size(dir + "/" + rel)}, {"crc32", hex32(crc32_file(dir + "/" + rel))}});
     }
   std::vector<io::Json> files(trials.size());
-  std::atomic<size_t> next{0};
-  std::mutex m;
-  std::string first_error;
-  auto worker = [&] {
-    for (size_t i; (i = next++) < trials.size();) {
-      try {
-        const Trial& t = trials[i];
-        const TrialInput in = simulate_trial(b, scenes.at(t.scene), t);
-        const std::string id = std::to_string(t.index);
-        PointCloud scan = in.scan;
-        scan.metadata["benchmark"] = b.name;
-        scan.metadata["trial"] = id;
-        io::write_cloud(dir + "/scans/" + id + ".pcd", scan);
-        write_file_atomic(dir + "/gt/" + id + ".json", input_json(b, scenes.at(t.scene), t, in).dump(2) + "\n");
-        io::Json f = io::Json::array();
-        for (const std::string& rel : {"scans/" + id + ".pcd", "gt/" + id + ".json"})
-          f.push_back({{"path", rel}, {"bytes", fs::file_size(dir + "/" + rel)}, {"crc32", hex32(crc32_file(dir + "/" + rel))}});
-        files[i] = f;
-      } catch (const std::exception& e) {
-        std::lock_guard<std::mutex> l(m);
-        if (first_error.empty()) first_error = e.what();
-        next = trials.size();
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int j = 0; j < std::max(1, jobs); ++j) pool.emplace_back(worker);
-  for (auto& t : pool) t.join();
-  if (!first_error.empty()) throw Error(first_error);
+  parallel_for(trials.size(), jobs, [&](size_t i) {
+    const Trial& t = trials[i];
+    const TrialInput in = simulate_trial(b, scenes.at(t.scene), t);
+    const std::string id = std::to_string(t.index);
+    PointCloud scan = in.scan;
+    scan.metadata["benchmark"] = b.name;
+    scan.metadata["trial"] = id;
+    io::write_cloud(dir + "/scans/" + id + ".pcd", scan);
+    write_file_atomic(dir + "/gt/" + id + ".json", input_json(b, scenes.at(t.scene), t, in).dump(2) + "\n");
+    io::Json f = io::Json::array();
+    for (const std::string& rel : {"scans/" + id + ".pcd", "gt/" + id + ".json"})
+      f.push_back({{"path", rel}, {"bytes", fs::file_size(dir + "/" + rel)}, {"crc32", hex32(crc32_file(dir + "/" + rel))}});
+    files[i] = f;
+  });
   DatasetSummary s;
   io::Json list = ref_files;
   for (const auto& e : ref_files) s.bytes += e.at("bytes").get<size_t>();

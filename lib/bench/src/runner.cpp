@@ -3,7 +3,6 @@
 
 #include <unistd.h>
 
-#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -11,12 +10,12 @@
 #include <iostream>
 #include <mutex>
 #include <set>
-#include <thread>
 
 #include "laserfit/bench/checksum.hpp"
 #include "laserfit/bench/memory.hpp"
 #include "laserfit/core/atomic_file.hpp"
 #include "laserfit/core/error.hpp"
+#include "laserfit/core/parallel.hpp"
 
 namespace laserfit::bench {
 namespace fs = std::filesystem;
@@ -146,38 +145,26 @@ RunSummary run_benchmark(const Benchmark& b, const RunSettings& s) {
   opt.thresholds = thresholds ? &*thresholds : nullptr;
   if (s.overlays) fs::create_directories(opt.overlay_dir = s.out_dir + "/overlays");
 
-  std::atomic<size_t> next{0}, finished{0};
-  std::mutex m;
-  std::string first_error;
+  size_t finished = 0;
+  std::mutex m;  // the journal, `done` and the progress line
   const bool tty = isatty(fileno(stderr));
-  auto worker = [&] {
-    for (size_t i; (i = next++) < pending.size();) {
-      const Trial& t = pending[i];
-      try {
-        const PreparedScene& p = scenes.at(t.scene);
-        const std::string id = std::to_string(t.index);
-        const TrialInput in = s.dataset_dir.empty()
-                                  ? simulate_trial(b, p, t)
-                                  : read_trial(p, checked("scans/" + id + ".pcd"), checked("gt/" + id + ".json"));
-        auto recs = run_trial(b, p, t, in, opt);
-        std::lock_guard<std::mutex> l(m);
-        jout << io::Json{{"trial", t.index}, {"records", recs}}.dump() << "\n" << std::flush;
-        done[t.index] = std::move(recs);
-        const size_t f = ++finished;
-        const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-        if (s.progress) progress_line(tty, b.name, sum.resumed + f, mine, f / el, mine - sum.resumed - f);
-      } catch (const std::exception& e) {
-        std::lock_guard<std::mutex> l(m);
-        if (first_error.empty()) first_error = e.what();
-        next = pending.size();  // stop handing out work; the journal keeps what is done
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int j = 0; j < std::max(1, s.jobs); ++j) pool.emplace_back(worker);
-  for (auto& t : pool) t.join();
+  // On an error no new trial starts; the journal keeps every finished one for the next run.
+  parallel_for(pending.size(), s.jobs, [&](size_t i) {
+    const Trial& t = pending[i];
+    const PreparedScene& p = scenes.at(t.scene);
+    const std::string id = std::to_string(t.index);
+    const TrialInput in = s.dataset_dir.empty()
+                              ? simulate_trial(b, p, t)
+                              : read_trial(p, checked("scans/" + id + ".pcd"), checked("gt/" + id + ".json"));
+    auto recs = run_trial(b, p, t, in, opt);
+    std::lock_guard<std::mutex> l(m);
+    jout << io::Json{{"trial", t.index}, {"records", recs}}.dump() << "\n" << std::flush;
+    done[t.index] = std::move(recs);
+    const size_t f = ++finished;
+    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    if (s.progress) progress_line(tty, b.name, sum.resumed + f, mine, f / el, mine - sum.resumed - f);
+  });
   jout.close();
-  if (!first_error.empty()) throw Error(first_error);
 
   std::vector<io::Json> records;
   for (const auto& [idx, recs] : done)

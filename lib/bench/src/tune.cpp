@@ -3,16 +3,14 @@
 // (ties keep the default, so an untouched value means "no evidence to move it").
 #include "laserfit/bench/tune.hpp"
 
-#include <atomic>
 #include <iostream>
 #include <map>
-#include <mutex>
 #include <sstream>
-#include <thread>
 
 #include "laserfit/bench/checksum.hpp"
 #include "laserfit/bench/trial.hpp"
 #include "laserfit/core/error.hpp"
+#include "laserfit/core/parallel.hpp"
 #include "laserfit/metrics/stats.hpp"
 
 namespace laserfit::bench {
@@ -72,13 +70,7 @@ Split make_split(const Benchmark& b, const std::map<int, PreparedScene>& scenes,
     for (int r : reps)
       if (t.repetition == r) s.trials.push_back(t);
   s.inputs.resize(s.trials.size());
-  std::atomic<size_t> next{0};
-  std::vector<std::thread> pool;
-  for (int j = 0; j < jobs; ++j)
-    pool.emplace_back([&] {
-      for (size_t i; (i = next++) < s.trials.size();) s.inputs[i] = simulate_trial(b, scenes.at(s.trials[i].scene), s.trials[i]);
-    });
-  for (auto& t : pool) t.join();
+  parallel_for(s.trials.size(), jobs, [&](size_t i) { s.inputs[i] = simulate_trial(b, scenes.at(s.trials[i].scene), s.trials[i]); });
   return s;
 }
 
@@ -88,21 +80,9 @@ Score evaluate(const Benchmark& b, const std::map<int, PreparedScene>& scenes, c
   o.methods = {method};
   o.thresholds = &th;
   std::vector<std::vector<io::Json>> recs(split.trials.size());
-  std::atomic<size_t> next{0};
-  std::mutex m;
-  std::string err;
-  std::vector<std::thread> pool;
-  for (int j = 0; j < jobs; ++j)
-    pool.emplace_back([&] {
-      for (size_t i; (i = next++) < split.trials.size();) try {
-          recs[i] = run_trial(b, scenes.at(split.trials[i].scene), split.trials[i], split.inputs[i], o);
-        } catch (const std::exception& e) {
-          std::lock_guard<std::mutex> l(m);
-          err = e.what();
-        }
-    });
-  for (auto& t : pool) t.join();
-  if (!err.empty()) throw Error(err);
+  parallel_for(split.trials.size(), jobs, [&](size_t i) {
+    recs[i] = run_trial(b, scenes.at(split.trials[i].scene), split.trials[i], split.inputs[i], o);
+  });
   Score s;
   std::vector<double> t, time;
   for (const auto& rs : recs)
