@@ -7,6 +7,7 @@
 #include "laserfit/core/rng.hpp"
 #include "laserfit/io/cloud_io.hpp"
 #include "laserfit/sampling/sampling.hpp"
+#include "laserfit/scan/reference.hpp"
 
 namespace laserfit::bench {
 
@@ -55,12 +56,6 @@ Shard parse_shard(const std::string& text) {
 
 namespace {
 
-Pose mid_sweep(const scan::ScanSettings& s) {
-  Pose step = Pose::Identity();
-  step.translation() = s.sweep.direction * (0.5 * s.sweep.length_mm);
-  return s.sweep.T_base_sensor_start * step;
-}
-
 // `nominal` rotated by up to `deg` about a uniform random axis and moved up to `mm` (uniform in
 // a ball); angle uniform in [0, deg].
 Pose perturbed(const Pose& nominal, double deg, double mm, std::mt19937_64& g) {
@@ -93,16 +88,13 @@ PreparedScene prepare_scene(const Benchmark& b, int scene) {
     const auto& o = p.scene.objects[idx];
     // A wrong-object trial registers another part's CAD where this object is.
     const TriMesh mesh = t.reference_mesh.empty() ? o.mesh : cad::import_cad(t.reference_mesh).mesh;
-    sampling::SamplingSettings ss;
-    ss.count = t.reference_points;
-    ss.seed = b.seed;
     if (t.reference == "full") {
+      sampling::SamplingSettings ss;
+      ss.count = t.reference_points;
+      ss.seed = b.seed;
       p.reference.push_back(sampling::sample_uniform(mesh, ss));
     } else {  // what the nominal sweep sees of the nominally placed object
-      sampling::ViewSettings v;
-      v.T_mesh_sensor.push_back(o.T_base_object.inverse() * mid_sweep(p.scene.settings));
-      v.geometry = p.scene.settings.sensor;
-      p.reference.push_back(sampling::sample_visible(mesh, v, ss));
+      p.reference.push_back(scan::view_reference(mesh, o.T_base_object, p.scene.settings, t.reference_points, b.seed));
     }
     p.object.push_back(idx);
     p.model.push_back(o.mesh.vertices);

@@ -6,7 +6,7 @@
 #include "laserfit/core/error.hpp"
 #include "laserfit/core/rng.hpp"
 #include "laserfit/robot/ik.hpp"
-#include "laserfit/sampling/sampling.hpp"
+#include "laserfit/scan/reference.hpp"
 
 namespace laserfit::controller {
 namespace {
@@ -19,18 +19,6 @@ robot::Joints ik_or_throw(const robot::ArmModel& arm, const Pose& T, const robot
     throw Error(what + ": not reachable (" + std::to_string(r.error_mm) + " mm off" +
                 (r.within_limits ? "" : ", joint limits") + ")");
   return r.q;
-}
-
-PointCloud view_reference(const TriMesh& mesh, const Pose& T_world_object, const Pose& T_world_sensor,
-                          const scan::ScanSettings& ss, size_t count, uint64_t seed) {
-  sampling::ViewSettings v;
-  Pose mid = Pose::Identity();
-  mid.translation() = ss.sweep.direction * (0.5 * ss.sweep.length_mm);
-  v.T_mesh_sensor.push_back(T_world_object.inverse() * T_world_sensor * mid);
-  v.geometry = ss.sensor;
-  sampling::SamplingSettings s;
-  s.count = count, s.seed = seed;
-  return sampling::sample_visible(mesh, v, s);
 }
 
 }  // namespace
@@ -68,10 +56,9 @@ SimSetup prepare_setting(const cell::Cell& c, int k, const ControllerSettings& s
   // (the designed geometry; the arms' beliefs do not enter).
   Pose approach = cs.T_target_part_insert;
   approach.translation() = cs.approach_mm;
-  const Pose& sweep = scene.settings.sweep.T_base_sensor_start;
-  su.target_ref = view_reference(scene.objects[cs.target].mesh, scene_target, sweep, scene.settings, s.reference_points, seed);
-  su.part_ref = view_reference(scene.objects[cs.part].mesh, scene_target * approach, sweep, scene.settings,
-                               s.reference_points, seed + 1);
+  su.target_ref = scan::view_reference(scene.objects[cs.target].mesh, scene_target, scene.settings, s.reference_points, seed);
+  su.part_ref = scan::view_reference(scene.objects[cs.part].mesh, scene_target * approach, scene.settings,
+                                     s.reference_points, seed + 1);
   return su;
 }
 
