@@ -66,6 +66,7 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
                                   const RegistrationSettings& s) {
   if (finite_points(scan_in) < 10) throw Error("scan has no usable points (empty or all NaN)");
   if (finite_points(ref_in) < 10) throw Error("reference cloud has no usable points");
+  if (uses_thin_detector(ref_in, s)) return detect_thin_part(scan_in, ref_in, s);
   const RefineFn refine = find_refiner(s.refine.method);
   RegistrationResult r;
   const double voxel = s.pre.voxel_mm > 0 ? s.pre.voxel_mm : auto_voxel_mm(ref_in);
@@ -247,6 +248,7 @@ PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& 
 
 RegistrationResult register_segmented(const PointCloud& scan_in, const PointCloud& ref,
                                       const RegistrationSettings& s, int max_clusters, int* cluster) {
+  if (uses_thin_detector(ref, s)) return detect_thin_part(scan_in, ref, s);  // segments itself
   const auto t0 = std::chrono::steady_clock::now();
   PointCloud scan = scan_in;
   remove_mixed_pixels(scan);

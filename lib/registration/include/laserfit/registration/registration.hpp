@@ -11,6 +11,7 @@
 
 #include "laserfit/core/cloud.hpp"
 #include "laserfit/core/pose.hpp"
+#include "laserfit/registration/thin.hpp"
 
 namespace laserfit::registration {
 
@@ -65,6 +66,7 @@ struct RegistrationSettings {
   CoarseSettings coarse;
   RefineSettings refine;
   TrustSettings trust;
+  ThinSettings thin;                // thin parts (a thread) are detected, not registered
   // Algorithm 1 of the paper.
   double rho_icp_vox2 = 0.05;       // stop when ICP fitness (mean squared distance) < rho * voxel^2
   double rho_rot_deg = 30.0;        // reject RANSAC poses farther than this from q0
@@ -126,5 +128,14 @@ PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& 
 RegistrationResult register_segmented(const PointCloud& scan, const PointCloud& ref,
                                       const RegistrationSettings& settings, int max_clusters = 4,
                                       int* cluster = nullptr);
+
+// Does `ref` go to the thin-part detector (settings.thin.mode, and for auto its thin_profile)?
+// register_cloud and register_segmented dispatch there themselves.
+bool uses_thin_detector(const PointCloud& ref, const RegistrationSettings& settings);
+
+// Locates a thin part's tip and axis (thin.hpp): `ambiguous` (its spin is unobservable) with the
+// pose, or `failed` with the candidates' reasons. Needs settings.prior (or at least q0: then
+// exactly one thin candidate along it must be found).
+RegistrationResult detect_thin_part(const PointCloud& scan, const PointCloud& ref, const RegistrationSettings& settings);
 
 }  // namespace laserfit::registration

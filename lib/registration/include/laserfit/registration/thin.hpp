@@ -1,0 +1,61 @@
+#pragma once
+// Thin parts (a 150 um thread): FPFH needs a neighbourhood several voxels wide, wider than the
+// thread, and ICP slides freely along it, so Algorithm 1 cannot register such a part. Instead its
+// tip is *detected*: the scan's thin, elongated clusters near the prior are fitted with a
+// cylinder (axis, radius; Ceres, robust loss), checked against the reference's radius, and the
+// tip is the fitted axis at the end of the seen points. The paper picked the tip by hand in a GUI.
+// A thin reference follows the thread_tip convention: its axis is its own z, the tip at max z.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "laserfit/core/cloud.hpp"
+
+namespace laserfit::registration {
+
+struct ThinSettings {
+  std::string mode = "auto";          // auto: thin references (below) are detected, not registered;
+                                      // on: every reference; off: never
+  double max_diameter_mm = 0.5;       // auto: a reference at most this thick ...
+  double min_aspect = 5.0;            // ... and at least this many diameters long is thin
+  double search_radius_mm = 10.0;     // candidates within this of the prior-placed reference's axis
+                                      // (the prior's error: an arm off by mm after an IC2 approach)
+  double linear_radius_mm = 0.25;     // neighbourhood for telling line points from surfaces ...
+  double max_cross_ratio = 0.35;      // ... a line's second principal spread is below this x the first
+  double cluster_tolerance_mm = 0.25; // line points further apart are separate candidates (a thread
+                                      // returns nothing from some profiles)
+  int min_points = 15;                // per candidate
+  double fit_length_mm = 2.0;         // the cylinder is fitted to this much behind the seen tip
+  double min_length_mm = 0.3;         // seen length of a candidate along its axis
+  double max_axis_deg = 20.0;         // candidate axis within this of the prior's
+  double radius_tolerance = 0.35;     // fitted radius within this fraction of the reference's
+  double max_rmse_mm = 0.012;         // cylinder-fit residual RMS (sensor noise is ~2 um)
+  double min_inlier_fraction = 0.8;   // of the candidate's points within 3 robust scales
+};
+
+struct ThinProfile {
+  bool thin = false;
+  double radius_mm = 0, length_mm = 0;
+  Eigen::Vector3d tip = Eigen::Vector3d::Zero();  // axis point at max z (reference frame)
+};
+// The reference's cross-section radius (median distance of its points from the z axis through
+// their centroid) and length along z.
+ThinProfile thin_profile(const PointCloud& ref, const ThinSettings& s);
+
+struct CylinderFit {
+  bool converged = false;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  // on the axis
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // unit
+  double radius_mm = 0, rmse_mm = 0;                // rmse over the inliers
+  double inlier_fraction = 0;
+  Eigen::Matrix<double, 5, 5> covariance = Eigen::Matrix<double, 5, 5>::Zero();  // of the parameters
+                                                    // [u v (mm, across), alpha beta (rad), r (mm)]
+  Eigen::Vector3d e1 = Eigen::Vector3d::UnitX(), e2 = Eigen::Vector3d::UnitY();  // their directions
+  std::vector<char> inlier;                         // per input point
+};
+// Least-squares cylinder through `pts` (only the side facing the sensor need be seen): residual
+// |distance to the axis| - r under a Huber loss of scale `robust_mm`, from an axis guess.
+CylinderFit fit_cylinder(const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3d& point0,
+                         const Eigen::Vector3d& axis0, double radius0, double robust_mm);
+
+}  // namespace laserfit::registration

@@ -1,0 +1,282 @@
+// Thin-part detection (see thin.hpp): candidates are Euclidean clusters of the scan near the
+// prior-placed reference's axis; a candidate must be elongated along the prior's axis, fit a
+// cylinder of the reference's radius, and be the one nearest the prior's tip.
+#include <pcl/segmentation/extract_clusters.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "laserfit/core/error.hpp"
+#include "laserfit/registration/preprocess.hpp"
+#include "laserfit/registration/registration.hpp"
+#include "pcl_types.hpp"
+
+namespace laserfit::registration {
+namespace {
+
+struct Candidate {
+  CylinderFit fit;
+  Eigen::Vector3d tip, data_tip;   // axis point at the tip; the seen point furthest along the axis
+  double length_mm = 0, spacing_mm = 0, distance_mm = 0;
+};
+
+double segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
+  return (p - a - t * ab).norm();
+}
+
+// Centroid, principal direction (oriented along `a0`) and the spread across it (two std-devs).
+void principal_axis(const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3d& a0, Eigen::Vector3d& mean,
+                    Eigen::Vector3d& axis, Eigen::Vector2d& cross) {
+  mean.setZero();
+  for (const auto& p : pts) mean += p;
+  mean /= double(pts.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : pts) cov += (p - mean) * (p - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov / double(pts.size()));
+  axis = es.eigenvectors().col(2);
+  if (axis.dot(a0) < 0) axis = -axis;
+  cross = es.eigenvalues().head<2>().cwiseMax(0).cwiseSqrt();
+}
+
+// The points whose neighbourhood is a line, not a surface: a thread seen from the side is a
+// band of one to a few points per profile, the needle beside it a grid. Drops the surfaces a
+// thread tip comes close to (the needle under it) so that clustering can bridge the profiles
+// where the thread returned nothing.
+std::vector<int> linear_points(const PclCloud::Ptr& cloud, const Tree::Ptr& tree, const ThinSettings& t) {
+  std::vector<int> keep;
+  pcl::Indices idx;
+  std::vector<float> d2;
+  for (int i = 0; i < int(cloud->size()); ++i) {
+    if (tree->radiusSearch(cloud->at(i), t.linear_radius_mm, idx, d2, 48) < 5) continue;
+    Eigen::Vector3d m = Eigen::Vector3d::Zero();
+    for (int j : idx) m += cloud->at(j).getVector3fMap().cast<double>();
+    m /= double(idx.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (int j : idx) {
+      const Eigen::Vector3d d = cloud->at(j).getVector3fMap().cast<double>() - m;
+      cov += d * d.transpose();
+    }
+    const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly).eigenvalues();
+    if (ev[1] <= t.max_cross_ratio * t.max_cross_ratio * ev[2]) keep.push_back(i);
+  }
+  return keep;
+}
+
+// Why a cluster is not the part, or "" and the candidate.
+std::string assess(const std::vector<Eigen::Vector3d>& all, const ThinProfile& prof, const Eigen::Vector3d& a0,
+                   const RegistrationSettings& s, Candidate& c) {
+  const ThinSettings& t = s.thin;
+  Eigen::Vector3d mean, axis;
+  Eigen::Vector2d cross;
+  principal_axis(all, a0, mean, axis, cross);
+  if (std::acos(std::min(1.0, axis.dot(a0))) > t.max_axis_deg * M_PI / 180) return "not along the prior's axis";
+  // Only the last fit_length_mm behind the tip: a real thread bends further back.
+  double s_max = -INFINITY;
+  for (const auto& p : all) s_max = std::max(s_max, axis.dot(p - mean));
+  std::vector<Eigen::Vector3d> pts;
+  for (const auto& p : all)
+    if (axis.dot(p - mean) >= s_max - t.fit_length_mm) pts.push_back(p);
+  if (pts.size() < size_t(t.min_points)) return "too few points near its end";
+  principal_axis(pts, a0, mean, axis, cross);
+  if (cross.norm() > 2 * prof.radius_mm) return "not thin";
+  // Start on the axis: the seen band of the surface faces the sensor, r in front of the axis.
+  Eigen::Vector3d start = mean;
+  if (s.pre.use_viewpoint) {
+    Eigen::Vector3d away = mean - s.pre.viewpoint;
+    away -= axis * axis.dot(away);
+    if (away.norm() > 0) start += away.normalized() * prof.radius_mm;
+  }
+  std::ostringstream why;
+  c.fit = fit_cylinder(pts, start, axis, prof.radius_mm, 0.004);
+  const CylinderFit& f = c.fit;
+  if (!f.converged) return "cylinder fit did not converge";
+  if (std::abs(f.radius_mm / prof.radius_mm - 1) > t.radius_tolerance) {
+    why << "radius " << f.radius_mm << " mm, reference " << prof.radius_mm;
+    return why.str();
+  }
+  if (f.rmse_mm > t.max_rmse_mm) return (why << "cylinder residual " << f.rmse_mm * 1e3 << " um", why.str());
+  if (f.inlier_fraction < t.min_inlier_fraction) return (why << "inliers " << f.inlier_fraction, why.str());
+  if (std::acos(std::min(1.0, std::abs(f.axis.dot(a0)))) > t.max_axis_deg * M_PI / 180) return "fitted axis off the prior's";
+  const Eigen::Vector3d a = f.axis.dot(a0) < 0 ? Eigen::Vector3d(-f.axis) : f.axis;
+  std::vector<double> s_ax;
+  for (size_t i = 0; i < pts.size(); ++i)
+    if (f.inlier[i]) s_ax.push_back(a.dot(pts[i] - f.point));
+  std::sort(s_ax.begin(), s_ax.end());
+  c.length_mm = s_ax.back() - s_ax.front();
+  if (c.length_mm < t.min_length_mm) return (why << "seen over " << c.length_mm << " mm only", why.str());
+  // Axial sampling (profiles cross the part at steps along it): the 90th percentile of the gaps.
+  std::vector<double> gaps;
+  for (size_t i = 1; i < s_ax.size(); ++i) gaps.push_back(s_ax[i] - s_ax[i - 1]);
+  std::nth_element(gaps.begin(), gaps.begin() + gaps.size() * 9 / 10, gaps.end());
+  c.spacing_mm = gaps[gaps.size() * 9 / 10];
+  c.fit.axis = a;
+  c.data_tip = f.point + a * s_ax.back();
+  c.tip = c.data_tip;
+  return "";
+}
+
+// Covariance of [rotation (rad, about the tip), tip (mm)] from the fit's parameters, plus the
+// spin about the axis (unknown: uniform over +-pi) and the tip's position along the axis
+// (uniform over one axial sampling step).
+Matrix6d tip_covariance(const Candidate& c) {
+  const CylinderFit& f = c.fit;
+  auto eval = [&](const Eigen::Matrix<double, 5, 1>& x) {
+    const Eigen::Vector3d p = f.point + x[0] * f.e1 + x[1] * f.e2;
+    const Eigen::Vector3d a = (f.axis + x[2] * f.e1 + x[3] * f.e2).normalized();
+    Vector6d out;
+    out << f.axis.cross(a), p + a * a.dot(c.data_tip - p);
+    return out;
+  };
+  Eigen::Matrix<double, 6, 5> J;
+  for (int k = 0; k < 5; ++k) {
+    Eigen::Matrix<double, 5, 1> d = Eigen::Matrix<double, 5, 1>::Zero();
+    d[k] = 1e-6;
+    J.col(k) = (eval(d) - eval(-d)) / 2e-6;
+  }
+  Matrix6d cov = J * f.covariance * J.transpose();
+  cov.topLeftCorner<3, 3>() += (M_PI * M_PI / 3) * f.axis * f.axis.transpose();
+  cov.bottomRightCorner<3, 3>() += (c.spacing_mm * c.spacing_mm / 12) * f.axis * f.axis.transpose();
+  return cov;
+}
+
+}  // namespace
+
+ThinProfile thin_profile(const PointCloud& ref, const ThinSettings& s) {
+  ThinProfile p;
+  double zmin = INFINITY, zmax = -INFINITY;
+  for (const auto& q : ref.points)
+    if (q.allFinite()) zmin = std::min(zmin, double(q.z())), zmax = std::max(zmax, double(q.z()));
+  // Circle through the cross-section (algebraic fit x^2 + y^2 + D x + E y + F = 0) of the side
+  // points away from the ends: a view-dependent reference holds only the side the sensor sees,
+  // so neither the centroid nor the mean distance from it would be the axis and the radius.
+  Eigen::MatrixXd A(ref.points.size(), 3);
+  Eigen::VectorXd b(ref.points.size());
+  Eigen::Index n = 0;
+  for (const auto& q : ref.points)
+    if (q.allFinite() && q.z() > zmin + 0.1 * (zmax - zmin) && q.z() < zmax - 0.1 * (zmax - zmin))
+    {
+      A.row(n) << q.x(), q.y(), 1;
+      b[n++] = -(q.x() * q.x() + q.y() * q.y());
+    }
+  if (n < 10) return p;
+  const Eigen::Vector3d x = A.topRows(n).colPivHouseholderQr().solve(b.head(n));
+  const Eigen::Vector2d c(-x[0] / 2, -x[1] / 2);
+  const double r2 = c.squaredNorm() - x[2];
+  if (!(r2 > 0)) return p;
+  p.radius_mm = std::sqrt(r2), p.length_mm = zmax - zmin;
+  p.tip = Eigen::Vector3d(c.x(), c.y(), zmax);
+  p.thin = 2 * p.radius_mm <= s.max_diameter_mm && p.length_mm >= s.min_aspect * 2 * p.radius_mm;
+  return p;
+}
+
+bool uses_thin_detector(const PointCloud& ref, const RegistrationSettings& s) {
+  if (s.thin.mode == "on") return true;
+  if (s.thin.mode == "off") return false;
+  if (s.thin.mode != "auto") throw Error("thin.mode must be auto, on or off, not '" + s.thin.mode + "'");
+  return thin_profile(ref, s.thin).thin;
+}
+
+RegistrationResult detect_thin_part(const PointCloud& scan_in, const PointCloud& ref, const RegistrationSettings& s) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const ThinSettings& t = s.thin;
+  const ThinProfile prof = thin_profile(ref, t);
+  if (prof.radius_mm <= 0) throw Error("reference cloud has no usable points");
+  if (!s.prior && !s.q0) throw Error("a thin part is detected along its prior axis: give a prior pose or orientation");
+  const Eigen::Matrix3d R0 = s.prior ? s.prior->rotation() : s.q0->toRotationMatrix();
+  const Eigen::Vector3d a0 = R0.col(2);
+  // No mixed-pixel filter here: a profile often returns one lone point off the thread, which
+  // that filter takes for a mixed pixel; the cylinder fit's robust loss handles real ones.
+  const PointCloud& scan = scan_in;
+  // Candidate points: near the axis of the prior-placed reference (all of them without a prior).
+  PointCloud near;
+  for (const auto& p : scan.points) {
+    if (!p.allFinite()) continue;
+    if (s.prior) {
+      const Eigen::Vector3d tip = *s.prior * prof.tip, base = tip - a0 * prof.length_mm;
+      if (segment_distance(p.cast<double>(), base, tip) > t.search_radius_mm) continue;
+    }
+    near.points.push_back(p);
+  }
+  if (near.points.size() < size_t(t.min_points))
+    throw Error("scan has no usable points near the thin part's prior (" + std::to_string(near.points.size()) + ")");
+  near.width = int(near.points.size());
+  const PclCloud::Ptr all = to_pcl(near);
+  Tree::Ptr all_tree(new Tree);
+  all_tree->setInputCloud(all);
+  const std::vector<int> lin = linear_points(all, all_tree, t);
+  const PclCloud::Ptr cloud(new PclCloud);
+  for (int i : lin) cloud->push_back(all->at(i));
+  std::vector<pcl::PointIndices> found;
+  if (!cloud->empty()) {
+    Tree::Ptr tree(new Tree);
+    tree->setInputCloud(cloud);
+    pcl::EuclideanClusterExtraction<PointT> ec;
+    ec.setClusterTolerance(t.cluster_tolerance_mm);
+    ec.setMinClusterSize(t.min_points);
+    ec.setMaxClusterSize(int(cloud->size()));
+    ec.setSearchMethod(tree);
+    ec.setInputCloud(cloud);
+    ec.extract(found);
+  }
+
+  RegistrationResult r;
+  r.voxel_mm = s.pre.voxel_mm;
+  std::vector<Candidate> ok;
+  std::map<std::string, int> rejected;
+  for (const auto& idx : found) {
+    std::vector<Eigen::Vector3d> pts;
+    for (int i : idx.indices) pts.push_back(cloud->at(i).getVector3fMap().cast<double>());
+    Candidate c;
+    const std::string why = assess(pts, prof, a0, s, c);
+    if (!why.empty()) {
+      ++rejected[why.substr(0, why.find_first_of("0123456789"))];
+      continue;
+    }
+    c.distance_mm = s.prior ? (c.tip - *s.prior * prof.tip).norm() : 0.0;
+    ok.push_back(c);
+  }
+  r.attempts = int(found.size());
+  std::ostringstream summary;
+  summary << lin.size() << " of " << all->size() << " points near the prior on lines, " << found.size() << " clusters, " << ok.size() << " thin along its axis";
+  for (const auto& [why, n] : rejected) summary << "; " << n << " " << why;
+  r.log.push_back("thin-part detector: " + summary.str());
+  r.timings_s["thin"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (ok.empty() || (!s.prior && ok.size() > 1)) {
+    r.status = Status::Failed;
+    r.reason = ok.empty() ? "no thin part found (" + summary.str() + ")"
+                          : std::to_string(ok.size()) + " thin candidates and no prior position to choose";
+    return r;
+  }
+  const Candidate& c = *std::min_element(ok.begin(), ok.end(), [](const Candidate& x, const Candidate& y) {
+    return x.distance_mm < y.distance_mm;
+  });
+  // Pose: z along the fitted axis, the spin about it kept from the prior (unobservable).
+  Eigen::Matrix3d R;
+  R.col(2) = c.fit.axis;
+  Eigen::Vector3d x = R0.col(0) - c.fit.axis * c.fit.axis.dot(R0.col(0));
+  if (x.norm() < 1e-6) x = c.fit.axis.unitOrthogonal();
+  R.col(0) = x.normalized();
+  R.col(1) = R.col(2).cross(R.col(0));
+  r.T_scan_ref.linear() = R;
+  r.T_scan_ref.translation() = c.tip - R * prof.tip;
+  r.status = Status::Ambiguous;
+  r.unobservable = 1;
+  r.weakest_direction << c.fit.axis, Eigen::Vector3d::Zero();
+  r.fitness_mm2 = c.fit.rmse_mm * c.fit.rmse_mm, r.inlier_rmse_mm = c.fit.rmse_mm;
+  r.overlap = std::min(1.0, c.length_mm / prof.length_mm);
+  r.covariance = tip_covariance(c);
+  std::ostringstream why;
+  why << "thin part: rotation about its own axis unobservable; cylinder r " << c.fit.radius_mm * 1e3 << " um seen over "
+      << c.length_mm << " mm, tip " << c.distance_mm << " mm from the prior, axial sampling " << c.spacing_mm * 1e3 << " um";
+  r.reason = why.str();
+  r.log.push_back(r.reason);
+  return r;
+}
+
+}  // namespace laserfit::registration
