@@ -111,8 +111,10 @@ CellSettings load_cell(const std::string& path) {
   c.ic2_joint1_deg = R.num(root, "ic2_joint1_deg", 90, "cell");
   if (std::abs(c.ic2_joint1_deg) > 180) R.fail("ic2_joint1_deg", "must be within +-180 deg");
   if (const auto w = root["weak"]) {
-    R.only(w, "weak", {"target_rotation", "part_translation"});
+    R.only(w, "weak", {"target_rotation", "target_translation", "part_rotation", "part_translation"});
     c.target_weak_rotation = axis_name(R, w, "target_rotation", "weak");
+    c.target_weak_translation = axis_name(R, w, "target_translation", "weak");
+    c.part_weak_rotation = axis_name(R, w, "part_rotation", "weak");
     c.part_weak_translation = axis_name(R, w, "part_translation", "weak");
   }
   return c;

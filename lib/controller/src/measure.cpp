@@ -1,4 +1,6 @@
 // A measurement: register the target and the part in one scan, with the robots' beliefs as priors.
+#include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "laserfit/controller/controller.hpp"
@@ -15,10 +17,12 @@ Eigen::Vector3d viewpoint(const PointCloud& scan) {
 }
 
 registration::RegistrationResult register_one(const PointCloud& scan, const PointCloud& ref, const Pose& prior,
-                                              const std::string& object, const ControllerSettings& s, uint64_t seed) {
+                                              const std::string& object, const ControllerSettings& s, uint64_t seed,
+                                              bool refine_only = false) {
   registration::RegistrationSettings rs;
   s.thresholds.apply(rs, object);
   rs.prior = prior;
+  rs.skip_coarse = refine_only;
   rs.prior_radius_mm = s.prior_radius_mm;
   rs.q0 = Eigen::Quaterniond(prior.rotation());
   rs.pre.use_viewpoint = true, rs.pre.viewpoint = viewpoint(scan);
@@ -33,24 +37,73 @@ registration::RegistrationResult register_one(const PointCloud& scan, const Poin
   }
 }
 
+// T with its rotation about its own axis `e` (object frame) replaced by the prior's: the
+// registration left that spin unobservable (the needle about its shaft), so its value is
+// arbitrary, and every pose derived from the target (the insertion axis, the part's prior, a
+// goal 2 mm above the eye) would inherit it. Swing-twist split of the residual rotation.
+Pose with_prior_spin(const Pose& T, const Pose& prior, const Eigen::Vector3d& e) {
+  const Eigen::Quaterniond d(T.rotation().transpose() * prior.rotation());
+  const double twist = 2 * std::atan2(d.vec().dot(e), d.w());
+  Pose out = T;
+  out.linear() = T.rotation() * Eigen::AngleAxisd(twist, e).toRotationMatrix();
+  return out;
+}
+
 }  // namespace
 
 Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const PointCloud& part_ref,
                     const Pose& target_prior, const Pose& part_prior, const cell::CellSettings& cs,
-                    const ControllerSettings& s, uint64_t seed, std::vector<std::string>& log) {
+                    const ControllerSettings& s, uint64_t seed, std::vector<std::string>& log,
+                    const std::optional<Pose>& tracked_target) {
   Measurement m;
   const auto& tname = cs.scene.objects[cs.target].name, &pname = cs.scene.objects[cs.part].name;
-  m.target = register_one(scan, target_ref, target_prior, tname, s, seed);
-  m.part = register_one(scan, part_ref, part_prior, pname, s, seed + 1);
-  m.T_scan_target = m.target.T_scan_ref, m.T_scan_part = m.part.T_scan_ref;
   std::string why;
-  if (!acceptable(m.target, cs.target_weak_rotation, "", m.T_scan_target, &why)) {
+  auto check_target = [&] {
+    m.T_scan_target = m.target.T_scan_ref;
+    if (!acceptable(m.target, cs.target_weak_rotation, cs.target_weak_translation, m.T_scan_target, &why)) return false;
+    const std::string& w = cs.target_weak_rotation;
+    if (m.target.status == registration::Status::Ambiguous && !w.empty()) {
+      const Eigen::Vector3d e = Eigen::Vector3d::Unit(w[0] - 'x');
+      if (registration::weakest_is_rotation_about(m.target, m.T_scan_target.linear() * e))
+        m.T_scan_target = with_prior_spin(m.T_scan_target, target_prior, e);
+    }
+    return true;
+  };
+  // The target does not move and the sensing arm repeats its scan pose to ~0.1 mm: an earlier
+  // measurement is a far better prior than the arm's model (mm off), and refining from it is
+  // enough. It also keeps the whole target together where the part's shadow cuts it in two.
+  bool ok = false;
+  if (tracked_target) {
+    m.target = register_one(scan, target_ref, *tracked_target, tname, s, seed, true);
+    ok = check_target();
+    if (!ok) log.push_back("refining " + tname + " from its last measurement: " + why + "; full registration");
+  }
+  if (!ok) {
+    m.target = register_one(scan, target_ref, tracked_target ? *tracked_target : target_prior, tname, s, seed);
+    ok = check_target();
+  }
+  if (!ok) {
     m.reason = tname + " registration " + why;
-  } else if (!acceptable(m.part, "", cs.part_weak_translation, m.T_scan_part, &why)) {
+    log.push_back("registered " + tname + ": " + registration::status_name(m.target.status) + " -> rejected: " + m.reason);
+    return m;
+  }
+  m.target_ok = true;
+  // The part's prior relative to the measured target: both priors come from arm A's model and
+  // share its absolute error (mm), the scan is in arm B's frame with its own; relative to the
+  // target only the error between teaching and now is left.
+  const Pose relative_prior = m.T_scan_target * target_prior.inverse() * part_prior;
+  m.part = register_one(scan, part_ref, relative_prior, pname, s, seed + 1);
+  m.T_scan_part = m.part.T_scan_ref;
+  if (!acceptable(m.part, cs.part_weak_rotation, cs.part_weak_translation, m.T_scan_part, &why)) {
     m.reason = pname + " registration " + why;
   } else {
     m.ok = true;
-    m.part_axial_unknown = m.part.status == registration::Status::Ambiguous;
+    // Not corrected along its own axis (the insertion motion's job) when the scan could not fix
+    // it (a plug seen from behind) or the cell declares it loose (a thread's seen tip ends
+    // between two profiles, tens of um short).
+    m.part_axial_unknown = m.part.status == registration::Status::Ambiguous &&
+                           (cs.part_weak_translation == "z" ||
+                            registration::weakest_is_translation_along(m.part, m.T_scan_part.linear().col(2)));
   }
   std::ostringstream l;
   l << "registered " << tname << ": " << registration::status_name(m.target.status) << ", " << pname << ": "

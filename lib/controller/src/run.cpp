@@ -57,6 +57,7 @@ Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy
   o.log.push_back("approach with IC2 from start " + std::to_string(start + 1));
   const bool orient = strategy == Strategy::LaserPose;
   Measurement m;
+  std::optional<Pose> tracked;  // the target's last trusted measurement (scan frame)
   auto refuse = [&](const std::string& why) {
     o.result = "refused: " + why;
     o.log.push_back(o.result);
@@ -103,7 +104,9 @@ Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy
           io::write_cloud(s.dump_dir + "/target_ref" + tag + ".pcd", su.target_ref);
           io::write_cloud(s.dump_dir + "/part_ref" + tag + ".pcd", su.part_ref);
         }
-        m = measure(scan, su.target_ref, su.part_ref, su.T_world_target_believed, c.part_believed(q), cs, s, scan_seed, o.log);
+        m = measure(scan, su.target_ref, su.part_ref, su.T_world_target_believed, c.part_believed(q), cs, s, scan_seed,
+                    o.log, tracked);
+        if (m.target_ok) tracked = m.T_scan_target;
       }
       if (!m.ok) return refuse(m.reason + " after " + std::to_string(s.max_scans) + " scans");
       // The pose strategy corrects the orientation in the first round, the position after.

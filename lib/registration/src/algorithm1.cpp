@@ -159,7 +159,7 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
     if (c.fit.fitness_mm2 < best.fit.fitness_mm2) best = c;
     if (c.fit.fitness_mm2 < rho_icp) good.push_back(c);
     // Stop once two converged attempts agree (one when there is no coarse stage to repeat).
-    if (!coarse && !good.empty()) break;
+    if (!coarse) break;  // without a coarse stage every attempt would repeat this one
     bool agreed = false;
     for (size_t i = 0; i + 1 < good.size() && !agreed; ++i) agreed = agree(good[i].T, good.back().T, *ref, s.trust);
     if (agreed) break;

@@ -49,7 +49,8 @@ struct CellSettings {
   double start_step_mm = 25;          //   the i-th starts i * step from it
   // DoFs a registration may leave unobservable without harm (an `ambiguous` about them is
   // accepted): the needle's spin about its shaft, the thread's slide along its own axis.
-  std::string target_weak_rotation, part_weak_translation;  // "" or x|y|z (object frame)
+  // Harmless DoFs a registration may leave unobservable: "" or x|y|z (object frame).
+  std::string target_weak_rotation, target_weak_translation, part_weak_rotation, part_weak_translation;
 };
 
 CellSettings load_cell(const std::string& path);  // strict YAML; errors name the file and key

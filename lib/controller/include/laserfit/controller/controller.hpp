@@ -40,6 +40,7 @@ struct ControllerSettings {
 // What one scan tells: the target's and the part's poses in the scan frame, or why not.
 struct Measurement {
   bool ok = false;
+  bool target_ok = false;               // the target alone was trusted (T_scan_target is usable)
   std::string reason;
   Pose T_scan_target = Pose::Identity(), T_scan_part = Pose::Identity();
   bool part_axial_unknown = false;      // ambiguous along the part's own axis (harmless)
@@ -61,7 +62,8 @@ bool acceptable(const registration::RegistrationResult& r, const std::string& we
 
 Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const PointCloud& part_ref,
                     const Pose& target_prior, const Pose& part_prior, const cell::CellSettings& cs,
-                    const ControllerSettings& s, uint64_t seed, std::vector<std::string>& log);
+                    const ControllerSettings& s, uint64_t seed, std::vector<std::string>& log,
+                    const std::optional<Pose>& tracked_target = std::nullopt);  // an earlier T_scan_target
 
 // The trajectory for a correction: from the flange's believed pose (A's base) to the pose that
 // applies `delta` (world frame) through the believed base-to-base transform; refused if too large.

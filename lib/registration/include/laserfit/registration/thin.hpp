@@ -28,9 +28,13 @@ struct ThinSettings {
   double fit_length_mm = 2.0;         // the cylinder is fitted to this much behind the seen tip
   double min_length_mm = 0.3;         // seen length of a candidate along its axis
   double max_axis_deg = 20.0;         // candidate axis within this of the prior's
+  double axis_prior_deg = 2.0;        // the prior's axis is this good (sigma): the gripper holds the
+                                      // thread straight; 0 = fit the axis freely
+  bool fit_radius = false;            // fit the radius too (else the reference's, see cylinder_fit.cpp)
   double radius_tolerance = 0.35;     // fitted radius within this fraction of the reference's
   double max_rmse_mm = 0.012;         // cylinder-fit residual RMS (sensor noise is ~2 um)
-  double min_inlier_fraction = 0.8;   // of the candidate's points within 3 robust scales
+  double min_inlier_fraction = 0.5;   // of the candidate's points within 3 robust scales (the rim of
+                                      // the cut end, a short line across the axis, is in the cluster)
 };
 
 struct ThinProfile {
@@ -53,9 +57,15 @@ struct CylinderFit {
   Eigen::Vector3d e1 = Eigen::Vector3d::UnitX(), e2 = Eigen::Vector3d::UnitY();  // their directions
   std::vector<char> inlier;                         // per input point
 };
+struct CylinderFitOptions {
+  bool fix_radius = false;   // hold r at radius0 (a narrow arc hardly fixes it)
+  double axis_sigma_rad = 0; // > 0: Gaussian prior of the axis about axis0 (rad)
+  double noise_mm = 0.003;   // the points' noise across the surface (whitens the residuals)
+};
 // Least-squares cylinder through `pts` (only the side facing the sensor need be seen): residual
 // |distance to the axis| - r under a Huber loss of scale `robust_mm`, from an axis guess.
 CylinderFit fit_cylinder(const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3d& point0,
-                         const Eigen::Vector3d& axis0, double radius0, double robust_mm);
+                         const Eigen::Vector3d& axis0, double radius0, double robust_mm,
+                         const CylinderFitOptions& options = {});
 
 }  // namespace laserfit::registration
