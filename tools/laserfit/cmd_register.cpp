@@ -15,7 +15,8 @@ namespace laserfit::cli {
 namespace {
 
 struct Options {
-  std::string scan, method = "ceres", coarse = "gated", prior, q0, viewpoint, thresholds, object;
+  std::string scan, method = "ceres", coarse = "gated", prior, q0, viewpoint, thresholds, object, thin = "auto";
+  double thin_axis_sigma = registration::ThinSettings{}.axis_prior_deg;
   CLI::App* app = nullptr;  // to tell the options given from the defaults
   std::vector<std::string> refs;
   double voxel = 0, rho_rot = 30, rho_icp = 0.05;
@@ -83,6 +84,7 @@ int run(const Options& o) {
   };
   s.max_attempts = o.attempts;
   s.seed = o.seed;
+  s.thin.mode = o.thin, s.thin.axis_prior_deg = o.thin_axis_sigma;
   if (!o.prior.empty()) s.prior = parse_pose(o.prior, "--prior"), s.skip_coarse = o.refine_only;
   if (!o.q0.empty()) {
     std::istringstream in(o.q0);
@@ -153,6 +155,11 @@ Command add_register(CLI::App& root) {
                                                  "options given here still override them");
   app->add_option("--object", o->object, "object name for the thresholds' per-object voxel (default: the "
                                          "reference file's name without extension)");
+  app->add_option("--thin", o->thin, "thin parts (a thread: at most 0.5 mm thick, 5 diameters long) are detected "
+                                     "along the prior's axis, not registered: auto (by the reference's shape) | on | off")
+      ->check(CLI::IsMember({"auto", "on", "off"}))->capture_default_str();
+  app->add_option("--thin-axis-sigma", o->thin_axis_sigma, "thin parts: how good the prior's axis is (deg, 1 sigma; "
+                                                           "0 = fit the axis freely)")->check(CLI::NonNegativeNumber)->capture_default_str();
   app->add_flag("--json", o->json, "machine-readable result on stdout");
   o->app = app;
   return {app, [o] { return run(*o); }};

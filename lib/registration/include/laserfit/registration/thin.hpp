@@ -27,7 +27,7 @@ struct ThinSettings {
   int min_points = 15;                // per candidate
   double fit_length_mm = 2.0;         // the cylinder is fitted to this much behind the seen tip
   double min_length_mm = 0.3;         // seen length of a candidate along its axis
-  double max_axis_deg = 20.0;         // candidate axis within this of the prior's
+  double max_axis_deg = 30.0;         // candidate axis within this of the prior's (a +-20 deg prior)
   double axis_prior_deg = 2.0;        // the prior's axis is this good (sigma): the gripper holds the
                                       // thread straight; 0 = fit the axis freely
   bool fit_radius = false;            // fit the radius too (else the reference's, see cylinder_fit.cpp)
