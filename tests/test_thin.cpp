@@ -74,14 +74,14 @@ TEST(ThinPart, DetectsTheThreadTipFromAPriorMillimetresOff) {
   // The unobservable direction is the spin about the thread's own axis.
   EXPECT_GT(std::abs(r.weakest_direction.head<3>().normalized().dot(axis)), 0.999);
   // Axis within 1 degree; the tip across the axis within 10 um (what the eye's +-75 um clearance
-  // needs), along it within 60 um (the tip ends between two profiles, 10 um apart here, and the
-  // cut end's rim is lost to grazing incidence).
+  // needs; measured 1.9 um), along it within 40 um (measured 14 um short: the tip ends between
+  // two profiles, ~40 um apart along the thread, and its last tens of um graze the laser).
   EXPECT_LT(std::acos(std::min(1.0, r.T_scan_ref.rotation().col(2).dot(axis))) * 180 / M_PI, 1.0);
   const Eigen::Vector3d dt = r.T_scan_ref.translation() - t.truth.translation();
   std::cout << "thread tip: across " << (dt - dt.dot(axis) * axis).norm() * 1e3 << " um, along "
             << dt.dot(axis) * 1e3 << " um; " << r.reason << "\n";
   EXPECT_LT((dt - dt.dot(axis) * axis).norm() * 1e3, 10.0);
-  EXPECT_LT(std::abs(dt.dot(axis)) * 1e3, 60.0);
+  EXPECT_LT(std::abs(dt.dot(axis)) * 1e3, 40.0);
   // register_segmented takes the same route (a thin part is segmented by the detector itself).
   const auto seg = reg::register_segmented(t.scan.cloud, t.ref, settings_with_prior(t));
   EXPECT_EQ(seg.T_scan_ref.matrix(), r.T_scan_ref.matrix());

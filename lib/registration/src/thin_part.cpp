@@ -123,9 +123,16 @@ std::string assess(const std::vector<Eigen::Vector3d>& all, const ThinProfile& p
   for (size_t i = 1; i < s_ax.size(); ++i) gaps.push_back(s_ax[i] - s_ax[i - 1]);
   std::nth_element(gaps.begin(), gaps.begin() + gaps.size() * 9 / 10, gaps.end());
   c.spacing_mm = gaps[gaps.size() * 9 / 10];
+  // The last profile that hit the part ends on average half a profile step short of its end:
+  // the step is the typical gap between profiles (gaps within a profile are ~0).
+  std::vector<double> steps;
+  for (double g : gaps)
+    if (g > 0.25 * c.spacing_mm) steps.push_back(g);
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  const double step = steps.empty() ? 0.0 : steps[steps.size() / 2];
   c.fit.axis = a;
   c.data_tip = f.point + a * s_ax.back();
-  c.tip = c.data_tip;
+  c.tip = c.data_tip + a * (step / 2);
   return "";
 }
 
