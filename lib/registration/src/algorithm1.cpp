@@ -151,6 +151,16 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
       r.log.push_back(head + "refinement diverged (non-finite pose)");
       continue;
     }
+    // The refined pose must stay inside the rho_rot cone too (not in the paper, which gates the
+    // RANSAC pose only): refinement can slide a partly hidden part (a plug whose front is in the
+    // socket) to a well-fitting pose 90 deg off. The paper method keeps the paper's behaviour.
+    if (s.q0 && s.refine.method != "paper") {
+      const double d_phi = rotation_angle(Eigen::Quaterniond(out.T.rotation()), *s.q0) * 180 / M_PI;
+      if (d_phi > s.rho_rot_deg) {
+        r.log.push_back(head + "rejected: refined to d_phi(q, q0) = " + fmt(d_phi) + " deg > rho_rot");
+        continue;
+      }
+    }
     const Candidate c{out.T, evaluate(*scan, *ref_tree, out.T, matcher)};
     r.log.push_back(head + "refined: fitness " + fmt(c.fit.fitness_mm2 / (voxel * voxel)) + " voxel^2, rmse " +
                     fmt(c.fit.rmse_mm * 1e3) + " um, overlap " + fmt(c.fit.overlap) + ", t = [" +
