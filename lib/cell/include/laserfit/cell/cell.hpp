@@ -48,8 +48,8 @@ struct CellSettings {
   int start_configs = 10;             // q^(1..N), each farther from the insertion pose
   double start_step_mm = 25;          //   the i-th starts i * step from it
   // DoFs a registration may leave unobservable without harm (an `ambiguous` about them is
-  // accepted): the needle's spin about its shaft, the thread's slide along its own axis.
-  // Harmless DoFs a registration may leave unobservable: "" or x|y|z (object frame).
+  // accepted): the needle's spin about its shaft, the thread's spin and slide along its own
+  // axis. "" or x|y|z (object frame).
   std::string target_weak_rotation, target_weak_translation, part_weak_rotation, part_weak_translation;
 };
 

@@ -1,9 +1,10 @@
 #pragma once
 // Thin parts (a 150 um thread): FPFH needs a neighbourhood several voxels wide, wider than the
 // thread, and ICP slides freely along it, so Algorithm 1 cannot register such a part. Instead its
-// tip is *detected*: the scan's thin, elongated clusters near the prior are fitted with a
-// cylinder (axis, radius; Ceres, robust loss), checked against the reference's radius, and the
-// tip is the fitted axis at the end of the seen points. The paper picked the tip by hand in a GUI.
+// tip is *detected*: the scan's thin, elongated clusters near the prior are checked against the
+// band a part of the reference's radius shows and fitted with a cylinder of that radius (Ceres,
+// robust loss, axis leaning on the prior's); the tip is the fitted axis at the end of the seen
+// points. The paper picked the tip by hand in a GUI.
 // A thin reference follows the thread_tip convention: its axis is its own z, the tip at max z.
 #include <Eigen/Core>
 #include <string>
@@ -31,7 +32,7 @@ struct ThinSettings {
   double axis_prior_deg = 2.0;        // the prior's axis is this good (sigma): the gripper holds the
                                       // thread straight; 0 = fit the axis freely
   bool fit_radius = false;            // fit the radius too (else the reference's, see cylinder_fit.cpp)
-  double radius_tolerance = 0.35;     // fitted radius within this fraction of the reference's
+  double radius_tolerance = 0.35;     // with fit_radius: within this fraction of the reference's
   double max_rmse_mm = 0.012;         // cylinder-fit residual RMS (sensor noise is ~2 um)
   double min_inlier_fraction = 0.5;   // of the candidate's points within 3 robust scales (the rim of
                                       // the cut end, a short line across the axis, is in the cluster)
