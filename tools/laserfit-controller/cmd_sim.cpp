@@ -17,7 +17,7 @@ namespace {
 
 struct Options {
   std::string cell, thresholds, strategies = "ic1,ic2,laser", out, dump;
-  int trials = 0, jobs = 1;
+  int trials = 0, first = 0, jobs = 1;
   uint64_t seed = 1;
   bool json = false, quiet = false;
 };
@@ -37,10 +37,13 @@ int run(const Options& o) {
   }
   const int per_robot = int(cs.target_poses.size()) * cs.start_configs;
   const int trials = o.trials > 0 ? o.trials : per_robot;
+  if (o.first < 0) throw Error("--first must be >= 0");
   // Trial i: setting i mod S, start (i / S) mod N, robot instance i / (S N) (a new seeded arm pair).
+  // Everything about trial i follows from (seed, i), so a range [first, first + trials) gives the
+  // same outcomes as the same trials inside a longer run: long campaigns can be split.
   std::map<int, std::unique_ptr<cell::Cell>> cells;
   std::map<std::pair<int, int>, SimSetup> setups;
-  for (int i = 0; i < trials; ++i) {
+  for (int i = o.first; i < o.first + trials; ++i) {
     const int robot = i / per_robot, setting = i % int(cs.target_poses.size());
     if (!cells.count(robot)) cells.emplace(robot, std::make_unique<cell::Cell>(cs, mix_seed(o.seed) + robot));
     if (!setups.count({robot, setting}))
@@ -50,7 +53,7 @@ int run(const Options& o) {
   size_t done = 0;
   std::mutex m;
   parallel_for(out.size(), o.jobs, [&](size_t k) {
-    const int i = int(k / strategies.size());
+    const int i = o.first + int(k / strategies.size());
     const Strategy st = strategies[k % strategies.size()];
     const int robot = i / per_robot, setting = i % int(cs.target_poses.size());
     const int start = (i / int(cs.target_poses.size())) % cs.start_configs;
@@ -71,10 +74,10 @@ int run(const Options& o) {
     lines += outcome_json(x).dump() + "\n";
   }
   if (!o.out.empty()) write_file_atomic(o.out, lines);
-  io::Json summary = {{"cell", o.cell}, {"task", cs.task}, {"seed", o.seed}, {"trials", trials},
+  io::Json summary = {{"cell", o.cell}, {"task", cs.task}, {"seed", o.seed}, {"first", o.first}, {"trials", trials},
                       {"thresholds", o.thresholds}, {"strategies", io::Json::object()}};
   std::ostringstream h;
-  h << cs.task << " cell, " << trials << " trials per strategy (seed " << o.seed << "):\n";
+  h << cs.task << " cell, " << trials << " trials per strategy from trial " << o.first << " (seed " << o.seed << "):\n";
   for (const auto& [name, r] : rate) {
     io::Json per = io::Json::array();
     for (const auto& [k, b] : by_setting[name]) per.push_back(double(b.first) / b.second);
@@ -98,6 +101,8 @@ Command add_sim(CLI::App& root) {
                                                "laser_pose (position + orientation)")->capture_default_str();
   app->add_option("--trials", o->trials, "trials per strategy (default: settings x start configurations; "
                                          "beyond that, new seeded arm pairs)");
+  app->add_option("--first", o->first, "index of the first trial (run trials first .. first + trials - 1)")
+      ->capture_default_str();
   app->add_option("--seed", o->seed, "seed of the arms' errors, noise and scans")->capture_default_str();
   app->add_option("--jobs", o->jobs, "trials in parallel")->capture_default_str();
   app->add_option("--out", o->out, "write every trial's outcome and decision log here (JSON Lines)");

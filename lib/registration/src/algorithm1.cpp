@@ -309,6 +309,31 @@ RegistrationResult register_segmented(const PointCloud& scan_in, const PointClou
       best = std::move(r), best_i = i;
     if (best.status == Status::Ok) break;
   }
+  // A part cut in two by another's shadow (the thread across the needle's eye) leaves clusters
+  // that miss what pins it (the needle's end beyond the shadow): their pose slides along the
+  // shaft and comes back ambiguous. Near the pose found, every piece of the part is within reach:
+  // refine once more on all scan points near the reference placed there.
+  if (best.status != Status::Failed && best.unobservable > 0) {
+    PointCloud grown = crop_near(scan, ref, best.T_scan_ref, s.prior_radius_mm);
+    if (grown.points.size() >= 10) {
+      RegistrationSettings g = s;
+      g.prior = best.T_scan_ref, g.skip_coarse = true;
+      try {
+        RegistrationResult r = register_cloud(grown, ref, g);
+        const bool better = rank(r) < rank(best) || (rank(r) == rank(best) && r.unobservable < best.unobservable);
+        best.log.push_back(std::string("regrown around the pose found: ") + status_name(r.status) + ", " +
+                           std::to_string(r.unobservable) + " unobservable direction(s)" +
+                           (better ? " -> kept" : " -> not better"));
+        if (better) {
+          r.log.insert(r.log.begin(), best.log.begin(), best.log.end());
+          for (const auto& [k, v] : best.timings_s) r.timings_s[k] += v;
+          best = std::move(r), best_i = int(parts.size());
+        }
+      } catch (const Error& e) {
+        best.log.push_back(std::string("regrown around the pose found: ") + e.what());
+      }
+    }
+  }
   if (cluster) *cluster = best_i;
   best.timings_s["segment"] = t_segment;
   best.log.push_back("segmentation: " + std::to_string(parts.size()) + " candidate parts, registered part " +

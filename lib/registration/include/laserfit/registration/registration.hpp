@@ -124,7 +124,9 @@ PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& 
 // Registers `ref` against up to `max_clusters` parts of the scan — with a prior, first the points
 // near the reference placed there (crop_near), then the clusters nearest it; else the largest
 // first — stopping at the first `ok`; returns the best (ok before
-// ambiguous before failed, then lowest fitness); `cluster` receives its index.
+// ambiguous before failed, then lowest fitness); `cluster` receives its index. A best result with
+// unobservable directions is refined once more on the scan points near the pose found (a part
+// cut in two by a shadow); when that is better, `cluster` is the number of candidate parts.
 RegistrationResult register_segmented(const PointCloud& scan, const PointCloud& ref,
                                       const RegistrationSettings& settings, int max_clusters = 4,
                                       int* cluster = nullptr);
