@@ -6,6 +6,8 @@
 
 #include <limits>
 #include <memory>
+#include <mutex>
+#include <vector>
 
 #include "laserfit/core/cloud.hpp"
 #include "laserfit/core/pose.hpp"
@@ -29,6 +31,16 @@ class Tree : public pcl::search::KdTree<PointT> {
     }
     return pcl::search::KdTree<PointT>::nearestKSearch(p, k, idx, d2);
   }
+  // Nearest input point of every query (finite queries only), in one call: PCL asks FLANN one
+  // query at a time, and FLANN opens an OpenMP region per call; at ~10^6 queries per
+  // registration that overhead was most of its run time. idx[i] = -1 when none.
+  void nearest_batch(const std::vector<Eigen::Vector3f>& queries, std::vector<int>& idx,
+                     std::vector<float>& d2) const;
+
+ private:
+  struct Batch;
+  mutable std::shared_ptr<Batch> batch_;
+  mutable std::once_flag batch_once_;
 };
 
 // Finite points only (NaN = no measurement); normals copied when present.

@@ -14,17 +14,20 @@ std::vector<Match> match(const PclCloud& scan, const Tree& ref_tree, const Pose&
   if (!T.matrix().allFinite()) return out;
   const Pose to_ref = T.inverse();
   const Eigen::Matrix3d R = T.rotation();
-  std::vector<int> idx(1);
-  std::vector<float> d2(1);
-  for (const auto& pt : scan) {
-    const Eigen::Vector3d q = pt.getVector3fMap().cast<double>();
-    PointT query;
-    query.getVector3fMap() = (to_ref * q).cast<float>();
-    if (ref_tree.nearestKSearch(query, 1, idx, d2) < 1 || d2[0] > m.gate * m.gate) continue;
-    const auto& r = ref_tree.getInputCloud()->at(idx[0]);
+  std::vector<Eigen::Vector3f> queries(scan.size());
+  for (size_t i = 0; i < scan.size(); ++i)
+    queries[i] = (to_ref * scan[i].getVector3fMap().cast<double>()).cast<float>();
+  std::vector<int> idx;
+  std::vector<float> d2;
+  ref_tree.nearest_batch(queries, idx, d2);
+  const auto& ref = *ref_tree.getInputCloud();
+  for (size_t i = 0; i < scan.size(); ++i) {
+    if (idx[i] < 0 || d2[i] > m.gate * m.gate) continue;
+    const auto& pt = scan[i];
+    const auto& r = ref[idx[i]];
     const Eigen::Vector3d n = R * r.getNormalVector3fMap().cast<double>();
     if (m.oriented && pt.getNormalVector3fMap().cast<double>().dot(n) < 0) continue;
-    out.push_back({T * r.getVector3fMap().cast<double>(), q, n});
+    out.push_back({T * r.getVector3fMap().cast<double>(), pt.getVector3fMap().cast<double>(), n});
   }
   return out;
 }
