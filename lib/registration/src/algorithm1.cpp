@@ -186,6 +186,24 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
   }
   r.T_scan_ref = best.T;
   assess(*scan, *ref_tree, matcher, s.trust, voxel, r);
+  if (r.status == Status::Ambiguous && s.prior) {
+    // Where the data cannot decide (a shaft slides along itself), the prior can: of the converged
+    // attempts, keep the one nearest to it rather than the one with a marginally lower fitness
+    // several millimetres along the unobservable direction.
+    const Candidate* nearest = &best;
+    for (const auto& c : good)
+      if ((c.T.translation() - s.prior->translation()).norm() <
+          (nearest->T.translation() - s.prior->translation()).norm())
+        nearest = &c;
+    if (nearest->T.matrix() != best.T.matrix()) {
+      r.log.push_back("ambiguous: kept the converged attempt nearest to the prior, t = [" +
+                      fmt(nearest->T.translation().x()) + ", " + fmt(nearest->T.translation().y()) + ", " +
+                      fmt(nearest->T.translation().z()) + "]");
+      best = *nearest;
+      r.T_scan_ref = best.T;
+      assess(*scan, *ref_tree, matcher, s.trust, voxel, r);
+    }
+  }
   if (r.status == Status::Ok && refine != refine_ceres) {
     // A pose is only trusted where the robust point-to-plane fit has its minimum: a PCL ICP
     // that stopped on a plateau (sliding along a face) is caught here, not reported as ok.
