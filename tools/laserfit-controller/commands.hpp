@@ -1,13 +1,10 @@
 #pragma once
-#include <CLI/CLI.hpp>
-#include <functional>
+// The laserfit-controller subcommands.
+#include "../common/subcommand.hpp"
 
 namespace laserfit::ctl {
 
-struct Command {
-  CLI::App* app;
-  std::function<int()> run;
-};
+using tools::Command;
 Command add_sim(CLI::App& root);
 Command add_correct(CLI::App& root);
 

@@ -1,7 +1,5 @@
 #pragma once
-// Each subcommand registers itself on the CLI11 app and returns the function that runs it.
-#include <CLI/CLI.hpp>
-#include <functional>
+// The laserfit subcommands (each registers itself and returns the function that runs it).
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -10,14 +8,11 @@
 #include "laserfit/core/error.hpp"
 
 #include "laserfit/io/json.hpp"
+#include "../common/subcommand.hpp"
 
 namespace laserfit::cli {
 
-using Run = std::function<int()>;
-struct Command {
-  CLI::App* app;
-  Run run;
-};
+using tools::Command;
 
 Command add_import(CLI::App& root);
 Command add_refcloud(CLI::App& root);

@@ -1,10 +1,7 @@
 // laserfit: CAD import, reference clouds, scan synthesis, registration, benchmarks.
-#include <exception>
-#include <iostream>
 #include <vector>
 
 #include "command.hpp"
-#include "laserfit/core/error.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"laserfit — um-precise robotic insertion: CAD -> reference clouds -> scans -> "
@@ -19,22 +16,5 @@ int main(int argc, char** argv) {
                                                   laserfit::cli::add_bench(app),
                                                   laserfit::cli::add_tune(app),
                                                   laserfit::cli::add_report(app, argc, argv)};
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e);
-  }
-  for (auto& c : commands) {
-    if (!c.app->parsed()) continue;
-    try {
-      return c.run();
-    } catch (const laserfit::Error& e) {
-      std::cerr << "laserfit " << c.app->get_name() << ": error: " << e.what() << "\n";
-      return 1;
-    } catch (const std::exception& e) {
-      std::cerr << "laserfit " << c.app->get_name() << ": error: " << e.what() << "\n";
-      return 1;
-    }
-  }
-  return 1;
+  return laserfit::tools::run_subcommand(app, commands, argc, argv, "laserfit");
 }
