@@ -123,3 +123,23 @@ TEST(Controller, RefusesLargeCorrectionsAndUntrustedRegistrations) {
   r.status = registration::Status::Ok;
   EXPECT_TRUE(controller::acceptable(r, "", "", Pose::Identity(), &why));
 }
+
+TEST(Controller, UnobservableSpinIsTakenFromThePrior) {
+  // The needle's registration leaves its spin about its shaft (x) arbitrary: the corrected pose
+  // keeps the measured position and shaft direction and takes the prior's spin. Tolerance 1e-9
+  // (pure rotation algebra).
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  const Pose prior = pose_from_tq({500, 40, 230}, Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized())));
+  // Measured: the prior tilted 2 degrees about y and spun 40 degrees about the shaft, moved 0.4 mm.
+  Pose T = prior * Eigen::AngleAxisd(0.035, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(0.7, x);
+  T.translation() += Eigen::Vector3d(0.4, -0.1, 0.2);
+  const Pose out = controller::with_prior_spin(T, prior, x);
+  EXPECT_LT((out.translation() - T.translation()).norm(), 1e-9);
+  EXPECT_LT((out.rotation().col(0) - T.rotation().col(0)).norm(), 1e-9);  // the shaft is measured
+  // The remaining rotation between prior and result is a pure swing: no twist about the shaft.
+  const Eigen::Quaterniond d(out.rotation().transpose() * prior.rotation());
+  EXPECT_LT(std::abs(d.vec().dot(x)), 1e-9);
+  // Only a spin away from the prior: the prior's orientation comes back.
+  const Pose spun = prior * Eigen::AngleAxisd(-1.2, x);
+  EXPECT_LT((controller::with_prior_spin(spun, prior, x).rotation() - prior.rotation()).norm(), 1e-9);
+}

@@ -37,6 +37,8 @@ registration::RegistrationResult register_one(const PointCloud& scan, const Poin
   }
 }
 
+}  // namespace
+
 // T with its rotation about its own axis `e` (object frame) replaced by the prior's: the
 // registration left that spin unobservable (the needle about its shaft), so its value is
 // arbitrary, and every pose derived from the target (the insertion axis, the part's prior, a
@@ -48,8 +50,6 @@ Pose with_prior_spin(const Pose& T, const Pose& prior, const Eigen::Vector3d& e)
   out.linear() = T.rotation() * Eigen::AngleAxisd(twist, e).toRotationMatrix();
   return out;
 }
-
-}  // namespace
 
 Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const PointCloud& part_ref,
                     const Pose& target_prior, const Pose& part_prior, const cell::CellSettings& cs,

@@ -197,7 +197,7 @@ bool uses_thin_detector(const PointCloud& ref, const RegistrationSettings& s) {
   return thin_profile(ref, s.thin).thin;
 }
 
-RegistrationResult detect_thin_part(const PointCloud& scan_in, const PointCloud& ref, const RegistrationSettings& s) {
+RegistrationResult detect_thin_part(const PointCloud& scan, const PointCloud& ref, const RegistrationSettings& s) {
   const auto t0 = std::chrono::steady_clock::now();
   const ThinSettings& t = s.thin;
   const ThinProfile prof = thin_profile(ref, t);
@@ -207,7 +207,6 @@ RegistrationResult detect_thin_part(const PointCloud& scan_in, const PointCloud&
   const Eigen::Vector3d a0 = R0.col(2);
   // No mixed-pixel filter here: a profile often returns one lone point off the thread, which
   // that filter takes for a mixed pixel; the cylinder fit's robust loss handles real ones.
-  const PointCloud& scan = scan_in;
   // Candidate points: near the axis of the prior-placed reference (all of them without a prior).
   PointCloud near;
   for (const auto& p : scan.points) {

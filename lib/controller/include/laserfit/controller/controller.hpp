@@ -60,6 +60,11 @@ Correction compute_correction(const Measurement& m, const Pose& T_target_part_go
 bool acceptable(const registration::RegistrationResult& r, const std::string& weak_rotation_axis,
                 const std::string& weak_translation_axis, const Pose& T_scan_object, std::string* why);
 
+// T with its rotation about its own axis `e` (object frame, unit) replaced by the prior's, the
+// rest of its orientation and its position kept: for a registration that left that spin
+// unobservable (the needle about its shaft).
+Pose with_prior_spin(const Pose& T, const Pose& prior, const Eigen::Vector3d& e);
+
 Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const PointCloud& part_ref,
                     const Pose& target_prior, const Pose& part_prior, const cell::CellSettings& cs,
                     const ControllerSettings& s, uint64_t seed, std::vector<std::string>& log,
