@@ -33,7 +33,8 @@ class Tree : public pcl::search::KdTree<PointT> {
   }
   // Nearest input point of every query (finite queries only), in one call: PCL asks FLANN one
   // query at a time, and FLANN opens an OpenMP region per call; at ~10^6 queries per
-  // registration that overhead was most of its run time. idx[i] = -1 when none.
+  // registration that overhead was most of its run time. idx[i] = -1 when none. Built on first
+  // use for the cloud set then: a Tree is given one input cloud in its life (as everywhere here).
   void nearest_batch(const std::vector<Eigen::Vector3f>& queries, std::vector<int>& idx,
                      std::vector<float>& d2) const;
 
