@@ -28,7 +28,9 @@ TEST(Controller, CellFilesLoadAndBadOnesNameTheProblem) {
       {"clearance: {x_mm: 0.425,", "clearance: {x_mm: -1,", "clearance"},
       {"part: thread_tip", "part: spool", "no object 'spool'"},
       {"start_configs: 10", "start_confgs: 10", "unknown key"},
-      {"base_error: [0.8, -0.5, 0.3,", "base_error: [80, -0.5, 0.3,", "not a calibration error"}};
+      {"base_error: [0.8, -0.5, 0.3,", "base_error: [80, -0.5, 0.3,", "not a calibration error"},
+      {"max_correction_mm: 16", "max_correction_mm: 0", "correction limits"},
+      {"search_sweep_mm: 32", "search_sweep_mm: 2", "search_sweep_mm"}};
   for (const auto& [from, to, what] : cases) {
     std::string t = text;
     ASSERT_NE(t.find(from), std::string::npos) << from;
@@ -45,7 +47,7 @@ TEST(Controller, CellFilesLoadAndBadOnesNameTheProblem) {
   }
 }
 
-// Tolerance: the clearance itself (0.425 / 0.085 mm, 10 deg for the needle), to 1 um.
+// Tolerance: the clearance itself (0.425 / 0.085 mm, 10 deg for the needle), to 1 um; depth to 1e-9 mm.
 TEST(Controller, InsertionCheckUsesTheClearanceAtTheMouth) {
   const auto cs = cell::load_cell(kCells + "needle.yaml");
   const Pose target = cs.target_poses[0];
@@ -57,6 +59,7 @@ TEST(Controller, InsertionCheckUsesTheClearanceAtTheMouth) {
   off = part;
   off.translation() += target.linear() * Eigen::Vector3d(cs.clearance.x_mm - 0.001, 0, 0.5);  // above, in x
   EXPECT_TRUE(cell::check_insertion(cs, target, off).success);
+  EXPECT_NEAR(cell::check_insertion(cs, target, off).depth_mm, -0.5, 1e-9);  // 0.5 mm short of the eye
   Pose tilted = part;
   tilted.linear() = part.linear() * Eigen::AngleAxisd(11 * M_PI / 180, Eigen::Vector3d::UnitX()).toRotationMatrix();
   EXPECT_FALSE(cell::check_insertion(cs, target, tilted).success);
@@ -98,7 +101,8 @@ TEST(Controller, ProprioceptionIc1BeatsIc2) {
 
 TEST(Controller, RefusesLargeCorrectionsAndUntrustedRegistrations) {
   const auto cs = cell::load_cell(kCells + "usb.yaml");
-  controller::ControllerSettings s;
+  const controller::ControllerSettings s = controller::settings_for(cs);
+  EXPECT_EQ(s.correction.max_translation_mm, cs.max_correction_mm);  // the cell's budget
   const cell::Cell c(cs, 1);
   robot::Joints q;
   q << 0, -M_PI / 4, 0, -3 * M_PI / 4, 0, M_PI / 2, M_PI / 4;
@@ -142,4 +146,34 @@ TEST(Controller, UnobservableSpinIsTakenFromThePrior) {
   // Only a spin away from the prior: the prior's orientation comes back.
   const Pose spun = prior * Eigen::AngleAxisd(-1.2, x);
   EXPECT_LT((controller::with_prior_spin(spun, prior, x).rotation() - prior.rotation()).norm(), 1e-9);
+}
+
+// A part outside the scene's 6 mm sweep (8 mm along the sweep direction) returns nothing from
+// it; the search sweep (32 mm, same centre) sees it. Points of the part: within 0.3 mm of its
+// 4 mm axis where the sensing arm believes it (its repeatability, ~0.05 mm, left out).
+// Tolerance: >= 30 points where a thread side seen over ~1 mm gives ~100; none from the short sweep.
+TEST(Controller, SearchSweepSeesAPartOutsideTheSceneSweep) {
+  const auto cs = cell::load_cell(kCells + "needle.yaml");
+  ASSERT_GT(cs.search_sweep_mm, cs.scene.settings.sweep.length_mm);
+  const cell::Cell c(cs, 3);
+  const auto su = controller::prepare_setting(c, 0, controller::ControllerSettings{}, 3);
+  Pose approach = cs.T_target_part_insert;
+  approach.translation() = cs.approach_mm;
+  Pose part = su.T_world_target * approach;
+  part.translation().y() += 8;  // the sweep runs along the world's y (scene file)
+  const Pose believed = su.T_world_sensor_start * (c.trueS.fk(su.q_scan) * c.T_flange_sensor_true).inverse() * part;
+  auto on_part = [&](const PointCloud& p) {
+    int n = 0;
+    for (const auto& x : p.points) {
+      if (!x.allFinite()) continue;
+      const Eigen::Vector3d q = believed.inverse() * x.cast<double>();  // part frame: axis along -z
+      n += q.z() <= 0.01 && q.z() >= -4.01 && q.head<2>().norm() < 0.3;
+    }
+    return n;
+  };
+  std::mt19937_64 g(1);
+  EXPECT_EQ(on_part(controller::scan_cell(c, su, part, 5, g)), 0);
+  const PointCloud wide = controller::scan_cell(c, su, part, 5, g, cs.search_sweep_mm);
+  EXPECT_EQ(wide.height, int(std::floor(cs.search_sweep_mm / cs.scene.settings.sweep.spacing_mm() + 1e-9)) + 1);
+  EXPECT_GE(on_part(wide), 30);
 }

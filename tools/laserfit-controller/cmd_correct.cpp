@@ -19,7 +19,7 @@ struct Options {
 int run(const Options& o) {
   using namespace controller;
   const cell::CellSettings cs = cell::load_cell(o.cell);
-  ControllerSettings s;
+  ControllerSettings s = settings_for(cs);
   s.thresholds = registration::load_thresholds(o.thresholds);
   const cell::Cell c(cs, 0);  // only the believed quantities are used here
   const Pose flange = parse_pose(o.ee_pose, "--ee-pose");

@@ -25,7 +25,7 @@ struct Options {
 int run(const Options& o) {
   using namespace controller;
   const cell::CellSettings cs = cell::load_cell(o.cell);
-  ControllerSettings s;
+  ControllerSettings s = settings_for(cs);
   s.thresholds = registration::load_thresholds(o.thresholds);
   s.dump_dir = o.dump;
   if (!o.dump.empty()) std::filesystem::create_directories(o.dump);

@@ -41,6 +41,7 @@ Insertion check_insertion(const CellSettings& s, const Pose& T_world_target, con
   const Eigen::Vector3d n = Q.linear().col(2), d = P.linear().col(2);
   Insertion r;
   r.angle_deg = std::acos(std::clamp(n.dot(d), -1.0, 1.0)) * 180 / M_PI;
+  r.depth_mm = (P.translation() - Q.translation()).dot(n);
   if (std::abs(d.dot(n)) < 1e-6) return r;  // parallel to the mouth: no crossing
   // Where the part's axis crosses the mouth plane, in the insertion frame.
   const double lambda = -(P.translation() - Q.translation()).dot(n) / d.dot(n);

@@ -61,7 +61,7 @@ CellSettings load_cell(const std::string& path) {
   for (size_t i = 0; i < tp.size(); ++i) c.target_poses.push_back(R.pose(tp[i], "target_poses[" + std::to_string(i) + "]"));
 
   const auto ins = R.need(root, "insertion", "cell");
-  R.only(ins, "insertion", {"part_in_target", "approach_mm", "stages"});
+  R.only(ins, "insertion", {"part_in_target", "approach_mm", "stages", "max_correction_mm", "max_correction_deg"});
   c.T_target_part_insert = R.pose(R.need(ins, "part_in_target", "insertion"), "insertion.part_in_target");
   const auto ap = R.list(R.need(ins, "approach_mm", "insertion"), "insertion.approach_mm");
   if (ap.size() != 3 || Eigen::Vector3d(ap[0], ap[1], ap[2]).norm() > 50)
@@ -73,6 +73,10 @@ CellSettings load_cell(const std::string& path) {
       if (!(c.stages[i] > (i ? c.stages[i - 1] : 0.0) && c.stages[i] < 1))
         R.fail("insertion.stages", "fractions must increase strictly within (0, 1)");
   }
+  c.max_correction_mm = R.num(ins, "max_correction_mm", c.max_correction_mm, "insertion");
+  c.max_correction_deg = R.num(ins, "max_correction_deg", c.max_correction_deg, "insertion");
+  if (!(c.max_correction_mm > 0 && c.max_correction_mm <= 50 && c.max_correction_deg > 0 && c.max_correction_deg <= 30))
+    R.fail("insertion.max_correction_mm", "the correction limits must be in (0, 50] mm and (0, 30] deg");
 
   const auto cl = R.need(root, "clearance", "cell");
   R.numbers(cl, "clearance", {{"x_mm", &c.clearance.x_mm}, {"y_mm", &c.clearance.y_mm}, {"angle_deg", &c.clearance.angle_deg}});
@@ -88,10 +92,13 @@ CellSettings load_cell(const std::string& path) {
   c.q_teach_hint = joints(R, R.need(a, "teach_near_deg", "assembling_arm"), "assembling_arm.teach_near_deg");
 
   const auto sa = R.need(root, "sensing_arm", "cell");
-  R.only(sa, "sensing_arm", {"sensor", "sensor_error", "scan_near_deg"});
+  R.only(sa, "sensing_arm", {"sensor", "sensor_error", "scan_near_deg", "search_sweep_mm"});
   c.T_flange_sensor = R.pose(R.need(sa, "sensor", "sensing_arm"), "sensing_arm.sensor");
   c.sensor_error = rigid(R, sa, "sensor_error", "sensing_arm");
   c.q_sense_hint = joints(R, R.need(sa, "scan_near_deg", "sensing_arm"), "sensing_arm.scan_near_deg");
+  c.search_sweep_mm = R.num(sa, "search_sweep_mm", 0, "sensing_arm");
+  if (!(c.search_sweep_mm == 0 || (c.search_sweep_mm >= c.scene.settings.sweep.length_mm && c.search_sweep_mm <= 100)))
+    R.fail("sensing_arm.search_sweep_mm", "must be 0 (none) or from the scene's sweep length up to 100 mm");
 
   if (const auto e = root["arm_errors"]) {
     auto& m = c.arm_errors;

@@ -60,6 +60,13 @@ Correction compute_correction(const Measurement& m, const Pose& T_target_part_go
   return c;
 }
 
+ControllerSettings settings_for(const cell::CellSettings& cs) {
+  ControllerSettings s;
+  s.correction.max_translation_mm = cs.max_correction_mm;
+  s.correction.max_rotation_deg = cs.max_correction_deg;
+  return s;
+}
+
 planning::Trajectory plan(const cell::Cell& c, const Pose& T_baseA_flange, const Pose& delta, const ControllerSettings& s) {
   // delta acts in the world (the scan frame); in A's base it is conjugated by the believed base
   // transform, so only its rotation part matters for a translation: calibration errors cancel.

@@ -24,6 +24,9 @@ registration::RegistrationResult register_one(const PointCloud& scan, const Poin
   rs.prior = prior;
   rs.skip_coarse = refine_only;
   rs.prior_radius_mm = s.prior_radius_mm;
+  // A thin part is looked for as far from its prior as a correction may reach: beyond, it would
+  // be refused anyway; nearer, a part the arm's model put that far off would be missed.
+  rs.thin.search_radius_mm = s.correction.max_translation_mm;
   rs.q0 = Eigen::Quaterniond(prior.rotation());
   rs.pre.use_viewpoint = true, rs.pre.viewpoint = viewpoint(scan);
   rs.seed = seed;
@@ -96,6 +99,12 @@ Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const 
   m.T_scan_part = m.part.T_scan_ref;
   if (!acceptable(m.part, cs.part_weak_rotation, cs.part_weak_translation, m.T_scan_part, &why)) {
     m.reason = pname + " registration " + why;
+    // Where it was looked for: a prior far off is the usual reason a visible part is not found.
+    const Eigen::Vector3d t = relative_prior.translation(), a = relative_prior.linear().col(2);
+    std::ostringstream l;
+    l.precision(4);
+    l << "  " << pname << " prior (scan frame): origin " << t.transpose() << " mm, z axis " << a.transpose();
+    log.push_back(l.str());
   } else {
     m.ok = true;
     // Not corrected along its own axis (the insertion motion's job) when the scan could not fix

@@ -93,9 +93,10 @@ Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy
     way = next;
     for (int round = 0; round <= s.max_rounds; ++round, ++o.rounds) {
       m = Measurement{};
+      double sweep_mm = 0;  // the scene's
       for (int k = 0; k < s.max_scans && !m.ok; ++k) {  // scan until the registrations are trusted
         const uint64_t scan_seed = mix_seed(seed ^ (uint64_t(o.scans) << 32));
-        const PointCloud scan = scan_cell(c, su, part, scan_seed, g);
+        const PointCloud scan = scan_cell(c, su, part, scan_seed, g, sweep_mm);
         ++o.scans;
         if (!s.dump_dir.empty()) {
           const std::string tag = "_s" + std::to_string(su.setting);
@@ -107,6 +108,12 @@ Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy
         m = measure(scan, su.target_ref, su.part_ref, su.T_world_target_believed, c.part_believed(q), cs, s, scan_seed,
                     o.log, tracked);
         if (m.target_ok) tracked = m.T_scan_target;
+        // The target was seen but not the part: the approach may have left it outside the sweep.
+        if (m.target_ok && !m.ok && sweep_mm == 0 && cs.search_sweep_mm > 0) {
+          sweep_mm = cs.search_sweep_mm;
+          o.log.push_back("no trusted " + cs.scene.objects[cs.part].name + " near the target: next scan sweeps " +
+                          fmt(sweep_mm) + " mm");
+        }
       }
       if (!m.ok) return refuse(m.reason + " after " + std::to_string(s.max_scans) + " scans");
       // The pose strategy corrects the orientation in the first round, the position after.
@@ -133,6 +140,7 @@ io::Json outcome_json(const Outcome& o) {
   return {{"strategy", strategy_name(o.strategy)}, {"setting", o.setting}, {"start", o.start + 1},
           {"seed", o.seed}, {"success", o.success}, {"result", o.result},
           {"lateral_um", {o.insertion.x_mm * 1e3, o.insertion.y_mm * 1e3}}, {"angle_deg", o.insertion.angle_deg},
+          {"depth_um", o.insertion.depth_mm * 1e3},
           {"scans", o.scans}, {"rounds", o.rounds}, {"time_s", o.time_s}, {"log", o.log}};
 }
 

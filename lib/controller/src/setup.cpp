@@ -63,7 +63,7 @@ SimSetup prepare_setting(const cell::Cell& c, int k, const ControllerSettings& s
 }
 
 PointCloud scan_cell(const cell::Cell& c, const SimSetup& su, const Pose& T_world_part_true, uint64_t seed,
-                     std::mt19937_64& g) {
+                     std::mt19937_64& g, double sweep_mm) {
   const auto& cs = c.s;
   scan::ScanScene sc = cs.scene;
   sc.seed = seed;
@@ -73,6 +73,13 @@ PointCloud scan_cell(const cell::Cell& c, const SimSetup& su, const Pose& T_worl
   const Pose to_believed = su.T_world_sensor_start * T_true.inverse();
   sc.settings.sweep.T_base_sensor_start = su.T_world_sensor_start;
   sc.settings.motion.offset_sigma_mm = 0, sc.settings.motion.offset_sigma_deg = 0;  // the arm model has them
+  // A longer sweep starts earlier by half the extra length: the same straight motion of the
+  // sensing arm, whose (linear, mm-short) error the sweep model already neglects.
+  auto& sw = sc.settings.sweep;
+  if (sweep_mm > sw.length_mm) {
+    sw.T_base_sensor_start = sw.T_base_sensor_start * Eigen::Translation3d(-sw.direction * (sweep_mm - sw.length_mm) / 2);
+    sw.length_mm = sweep_mm;
+  }
   // Other objects of the scene stay where they are relative to the target.
   const Pose moved = su.T_world_target * cs.scene.objects[cs.target].T_base_object.inverse();
   for (auto& o : sc.objects) o.T_base_object = to_believed * moved * o.T_base_object;

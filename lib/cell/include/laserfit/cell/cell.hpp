@@ -32,6 +32,10 @@ struct CellSettings {
   Eigen::Vector3d approach_mm = {0, 0, 0};       // part's approach position, target frame
   std::vector<double> stages;                    // verified waypoints toward the insertion, as
                                                  // fractions of the approach distance (0..1)
+  // The largest correction the controller may make in one move (mm, deg): the cell's approach
+  // error budget (the arms' model error after an IC2 approach), and how far from its prior the
+  // part is looked for. Larger measured corrections are refused.
+  double max_correction_mm = 5, max_correction_deg = 5;
   Clearance clearance;
   // The assembling arm: base in the world, the part in its gripper.
   Pose T_world_baseA = Pose::Identity();
@@ -44,6 +48,8 @@ struct CellSettings {
   robot::ErrorModelSettings arm_errors;
   robot::Joints q_teach_hint = robot::Joints::Zero();  // assembling arm near IC1 when teaching
   robot::Joints q_sense_hint = robot::Joints::Zero();  // sensing arm near its scan pose
+  double search_sweep_mm = 0;         // when the part is not found, re-scan with a sweep this long
+                                      // (same centre); 0: the scene's sweep only
   double ic2_joint1_deg = 90;         // IC2 = IC1 with this added to joint 1
   int start_configs = 10;             // q^(1..N), each farther from the insertion pose
   double start_step_mm = 25;          //   the i-th starts i * step from it
@@ -77,7 +83,8 @@ struct Cell {
 // axis crosses the mouth plane, and the axis angle.
 struct Insertion {
   bool success = false;
-  double x_mm = 0, y_mm = 0, angle_deg = 0;
+  double x_mm = 0, y_mm = 0, angle_deg = 0;  // where the part's axis crosses the mouth (insertion frame)
+  double depth_mm = 0;                        // its tip past the insertion point along the axis (< 0: short)
 };
 Insertion check_insertion(const CellSettings& s, const Pose& T_world_target, const Pose& T_world_part);
 

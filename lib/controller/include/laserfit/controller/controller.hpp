@@ -37,6 +37,10 @@ struct ControllerSettings {
   std::string dump_dir;                 // non-empty: write every scan and the references here
 };
 
+// Defaults for a cell: its correction limits (its approach error budget) go to the planner and
+// bound how far from its prior the part is looked for.
+ControllerSettings settings_for(const cell::CellSettings& cs);
+
 // What one scan tells: the target's and the part's poses in the scan frame, or why not.
 struct Measurement {
   bool ok = false;

@@ -37,7 +37,8 @@ io::Json outcome_json(const Outcome& o);
 
 // A scan of the cell as it truly is, in the frame the sensing arm believes (what the real sensor
 // delivers): the sensing arm at q_scan (its repeatability drawn from g), the part where it is.
+// sweep_mm > the scene's sweep: a longer sweep about the same centre (a search scan).
 PointCloud scan_cell(const cell::Cell& c, const SimSetup& su, const Pose& T_world_part_true, uint64_t seed,
-                     std::mt19937_64& g);
+                     std::mt19937_64& g, double sweep_mm = 0);
 
 }  // namespace laserfit::controller
