@@ -75,8 +75,10 @@ CellSettings load_cell(const std::string& path) {
   }
   c.max_correction_mm = R.num(ins, "max_correction_mm", c.max_correction_mm, "insertion");
   c.max_correction_deg = R.num(ins, "max_correction_deg", c.max_correction_deg, "insertion");
-  if (!(c.max_correction_mm > 0 && c.max_correction_mm <= 50 && c.max_correction_deg > 0 && c.max_correction_deg <= 30))
-    R.fail("insertion.max_correction_mm", "the correction limits must be in (0, 50] mm and (0, 30] deg");
+  if (!(c.max_correction_mm > 0 && c.max_correction_mm <= 50))
+    R.fail("insertion.max_correction_mm", "the correction limit must be in (0, 50] mm");
+  if (!(c.max_correction_deg > 0 && c.max_correction_deg <= 30))
+    R.fail("insertion.max_correction_deg", "the correction limit must be in (0, 30] deg");
 
   const auto cl = R.need(root, "clearance", "cell");
   R.numbers(cl, "clearance", {{"x_mm", &c.clearance.x_mm}, {"y_mm", &c.clearance.y_mm}, {"angle_deg", &c.clearance.angle_deg}});
