@@ -25,7 +25,9 @@ TEST(Controller, CellFilesLoadAndBadOnesNameTheProblem) {
   const std::string rel = "../datasets/scenes/needle_thread.yaml";  // relative to cells/: made absolute
   text.replace(text.find(rel), rel.size(), kCells + rel);
   const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
-      {"clearance: {x_mm: 0.425,", "clearance: {x_mm: -1,", "clearance"},
+      {"x_mm: 0.425", "x_mm: -1", "clearance"},
+      {"depth_mm: 0.35", "depth_mm: -0.35", "depth_mm"},
+      {"search_raise_mm: 8", "search_raise_mm: 13", "search_raise_mm"},
       {"part: thread_tip", "part: spool", "no object 'spool'"},
       {"start_configs: 10", "start_confgs: 10", "unknown key"},
       {"base_error: [0.8, -0.5, 0.3,", "base_error: [80, -0.5, 0.3,", "not a calibration error"},
@@ -47,7 +49,8 @@ TEST(Controller, CellFilesLoadAndBadOnesNameTheProblem) {
   }
 }
 
-// Tolerance: the clearance itself (0.425 / 0.085 mm, 10 deg for the needle), to 1 um; depth to 1e-9 mm.
+// Tolerance: the clearance itself (0.425 / 0.085 mm, 10 deg, 0.35 mm short for the needle), to
+// 1 um; depth to 1e-9 mm. Aligned above the eye is not inserted.
 TEST(Controller, InsertionCheckUsesTheClearanceAtTheMouth) {
   const auto cs = cell::load_cell(kCells + "needle.yaml");
   const Pose target = cs.target_poses[0];
@@ -57,9 +60,14 @@ TEST(Controller, InsertionCheckUsesTheClearanceAtTheMouth) {
   off.translation() += target.linear() * Eigen::Vector3d(0, cs.clearance.y_mm + 0.001, 0);
   EXPECT_FALSE(cell::check_insertion(cs, target, off).success);
   off = part;
-  off.translation() += target.linear() * Eigen::Vector3d(cs.clearance.x_mm - 0.001, 0, 0.5);  // above, in x
-  EXPECT_TRUE(cell::check_insertion(cs, target, off).success);
-  EXPECT_NEAR(cell::check_insertion(cs, target, off).depth_mm, -0.5, 1e-9);  // 0.5 mm short of the eye
+  // The part points down (-z of the target): +z is short of the eye, -z through it.
+  off.translation() += target.linear() * Eigen::Vector3d(cs.clearance.x_mm - 0.001, 0, cs.clearance.depth_mm - 0.001);
+  EXPECT_TRUE(cell::check_insertion(cs, target, off).success);  // in the eye's mouth, in x
+  off.translation() += target.linear() * Eigen::Vector3d(0, 0, 0.5);
+  EXPECT_NEAR(cell::check_insertion(cs, target, off).depth_mm, -(cs.clearance.depth_mm - 0.001 + 0.5), 1e-9);
+  EXPECT_FALSE(cell::check_insertion(cs, target, off).success);  // aligned, 0.5 mm above the mouth
+  off.translation() += target.linear() * Eigen::Vector3d(0, 0, -5);
+  EXPECT_TRUE(cell::check_insertion(cs, target, off).success);  // through the eye
   Pose tilted = part;
   tilted.linear() = part.linear() * Eigen::AngleAxisd(11 * M_PI / 180, Eigen::Vector3d::UnitX()).toRotationMatrix();
   EXPECT_FALSE(cell::check_insertion(cs, target, tilted).success);

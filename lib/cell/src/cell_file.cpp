@@ -4,6 +4,7 @@
 #include "laserfit/cell/cell.hpp"
 #include "laserfit/core/error.hpp"
 #include "laserfit/io/yaml_reader.hpp"
+#include "laserfit/scan/reference.hpp"
 
 namespace laserfit::cell {
 namespace {
@@ -81,9 +82,11 @@ CellSettings load_cell(const std::string& path) {
     R.fail("insertion.max_correction_deg", "the correction limit must be in (0, 30] deg");
 
   const auto cl = R.need(root, "clearance", "cell");
-  R.numbers(cl, "clearance", {{"x_mm", &c.clearance.x_mm}, {"y_mm", &c.clearance.y_mm}, {"angle_deg", &c.clearance.angle_deg}});
-  if (!(c.clearance.x_mm > 0 && c.clearance.y_mm > 0 && c.clearance.angle_deg > 0 && c.clearance.x_mm < 10 && c.clearance.y_mm < 10))
-    R.fail("clearance", "half-widths must be in (0, 10) mm, the angle positive");
+  R.numbers(cl, "clearance", {{"x_mm", &c.clearance.x_mm}, {"y_mm", &c.clearance.y_mm}, {"angle_deg", &c.clearance.angle_deg},
+                                {"depth_mm", &c.clearance.depth_mm}});
+  if (!(c.clearance.x_mm > 0 && c.clearance.y_mm > 0 && c.clearance.angle_deg > 0 && c.clearance.x_mm < 10 &&
+        c.clearance.y_mm < 10 && c.clearance.depth_mm >= 0 && c.clearance.depth_mm < 10))
+    R.fail("clearance", "half-widths must be in (0, 10) mm, the angle positive, depth_mm in [0, 10) mm");
 
   const auto a = R.need(root, "assembling_arm", "cell");
   R.only(a, "assembling_arm", {"base", "base_error", "grasp", "grasp_error", "teach_near_deg"});
@@ -94,13 +97,22 @@ CellSettings load_cell(const std::string& path) {
   c.q_teach_hint = joints(R, R.need(a, "teach_near_deg", "assembling_arm"), "assembling_arm.teach_near_deg");
 
   const auto sa = R.need(root, "sensing_arm", "cell");
-  R.only(sa, "sensing_arm", {"sensor", "sensor_error", "scan_near_deg", "search_sweep_mm"});
+  R.only(sa, "sensing_arm", {"sensor", "sensor_error", "scan_near_deg", "search_sweep_mm", "search_raise_mm"});
   c.T_flange_sensor = R.pose(R.need(sa, "sensor", "sensing_arm"), "sensing_arm.sensor");
   c.sensor_error = rigid(R, sa, "sensor_error", "sensing_arm");
   c.q_sense_hint = joints(R, R.need(sa, "scan_near_deg", "sensing_arm"), "sensing_arm.scan_near_deg");
   c.search_sweep_mm = R.num(sa, "search_sweep_mm", 0, "sensing_arm");
   if (!(c.search_sweep_mm == 0 || (c.search_sweep_mm >= c.scene.settings.sweep.length_mm && c.search_sweep_mm <= 100)))
     R.fail("sensing_arm.search_sweep_mm", "must be 0 (none) or from the scene's sweep length up to 100 mm");
+  // The raised scan must still see the target: its range from the sweep's middle plus the raise
+  // stays inside the far limit.
+  const auto& sc = c.scene.settings;
+  const double far_mm =
+      sc.sensor.z_max_mm - (scan::mid_sweep(sc).inverse() * c.scene.objects[c.target].T_base_object).translation().z();
+  c.search_raise_mm = R.num(sa, "search_raise_mm", 0, "sensing_arm");
+  if (!(c.search_raise_mm >= 0 && c.search_raise_mm < far_mm))
+    R.fail("sensing_arm.search_raise_mm",
+           "must be 0 (none) or less than the target's distance to the scanner's far limit (" + std::to_string(far_mm) + " mm)");
 
   if (const auto e = root["arm_errors"]) {
     auto& m = c.arm_errors;

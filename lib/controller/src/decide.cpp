@@ -37,17 +37,19 @@ bool acceptable(const registration::RegistrationResult& r, const std::string& we
   return false;
 }
 
-Correction compute_correction(const Measurement& m, const Pose& T_target_part_goal, bool with_orientation) {
+Correction compute_correction(const Measurement& m, const Pose& T_target_part_goal, bool with_orientation,
+                              bool with_axial) {
   const Pose goal = m.T_scan_target * T_target_part_goal;  // where the part must be, scan frame
   Correction c;
   Eigen::Vector3d dt = goal.translation() - m.T_scan_part.translation();
   const Eigen::Vector3d axis = goal.linear().col(2);       // the insertion axis
   // An axial position the scan could not fix is not corrected (it is the insertion motion's job).
-  if (m.part_axial_unknown) {
+  if (m.part_axial_unknown || !with_axial) {
     const Eigen::Vector3d a = m.T_scan_part.linear().col(2);
     dt -= a * a.dot(dt);
   }
   c.lateral_mm = (dt - axis * axis.dot(dt)).norm();
+  c.axial_mm = axis.dot(dt);
   const Eigen::Matrix3d dR = goal.linear() * m.T_scan_part.linear().transpose();
   c.angle_deg = Eigen::AngleAxisd(dR).angle() * 180 / M_PI;
   if (with_orientation) {

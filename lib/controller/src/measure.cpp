@@ -107,12 +107,12 @@ Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const 
     log.push_back(l.str());
   } else {
     m.ok = true;
-    // Not corrected along its own axis (the insertion motion's job) when the scan could not fix
-    // it (a plug seen from behind) or the cell declares it loose (a thread's seen tip ends
-    // between two profiles, tens of um short).
+    // Not corrected along its own axis only when the scan could not fix it (a plug seen from
+    // behind slides along itself). A thread's tip end is measured (to about one profile step):
+    // it is corrected, or an IC2 approach's millimetres along the axis would stay (the tip
+    // stopping above the eye, aligned but not inserted).
     m.part_axial_unknown = m.part.status == registration::Status::Ambiguous &&
-                           (cs.part_weak_translation == "z" ||
-                            registration::weakest_is_translation_along(m.part, m.T_scan_part.linear().col(2)));
+                           registration::weakest_is_translation_along(m.part, m.T_scan_part.linear().col(2));
   }
   std::ostringstream l;
   l << "registered " << tname << ": " << registration::status_name(m.target.status) << ", " << pname << ": "

@@ -1,5 +1,6 @@
 // One insertion attempt with a strategy, judged on the true poses.
 #include <chrono>
+#include <cmath>
 #include <sstream>
 
 #include "laserfit/controller/sim.hpp"
@@ -41,7 +42,8 @@ Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy
     o.success = o.insertion.success;
     if (o.result.empty()) o.result = o.success ? "inserted" : "missed";
     o.log.push_back("insertion: lateral (" + fmt(o.insertion.x_mm * 1e3) + ", " + fmt(o.insertion.y_mm * 1e3) +
-                    ") um, axis " + fmt(o.insertion.angle_deg) + " deg -> " + o.result);
+                    ") um, depth " + fmt(o.insertion.depth_mm * 1e3) + " um, axis " + fmt(o.insertion.angle_deg) +
+                    " deg -> " + o.result);
     o.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return o;
   };
@@ -94,9 +96,10 @@ Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy
     for (int round = 0; round <= s.max_rounds; ++round, ++o.rounds) {
       m = Measurement{};
       double sweep_mm = 0;  // the scene's
+      bool raised = false;
       for (int k = 0; k < s.max_scans && !m.ok; ++k) {  // scan until the registrations are trusted
         const uint64_t scan_seed = mix_seed(seed ^ (uint64_t(o.scans) << 32));
-        const PointCloud scan = scan_cell(c, su, part, scan_seed, g, sweep_mm);
+        const PointCloud scan = scan_cell(c, su, part, scan_seed, g, sweep_mm, raised);
         ++o.scans;
         if (!s.dump_dir.empty()) {
           const std::string tag = "_s" + std::to_string(su.setting);
@@ -108,19 +111,27 @@ Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy
         m = measure(scan, su.target_ref, su.part_ref, su.T_world_target_believed, c.part_believed(q), cs, s, scan_seed,
                     o.log, tracked);
         if (m.target_ok) tracked = m.T_scan_target;
-        // The target was seen but not the part: the approach may have left it outside the sweep.
+        // The target was seen but not the part: the approach may have left it outside the sweep,
+        // and then (not in the long sweep either) nearer to the scanner than its measuring range.
+        const std::string not_found = "no trusted " + cs.scene.objects[cs.part].name + " near the target: next scan ";
         if (m.target_ok && !m.ok && sweep_mm == 0 && cs.search_sweep_mm > 0) {
           sweep_mm = cs.search_sweep_mm;
-          o.log.push_back("no trusted " + cs.scene.objects[cs.part].name + " near the target: next scan sweeps " +
-                          fmt(sweep_mm) + " mm");
+          o.log.push_back(not_found + "sweeps " + fmt(sweep_mm) + " mm");
+        } else if (m.target_ok && !m.ok && !raised && cs.search_raise_mm > 0) {
+          raised = true;
+          o.log.push_back(not_found + "from " + fmt(cs.search_raise_mm) + " mm farther back");
         }
       }
       if (!m.ok) return refuse(m.reason + " after " + std::to_string(s.max_scans) + " scans");
       // The pose strategy corrects the orientation in the first round, the position after.
-      const Correction corr = compute_correction(m, way, orient && o.rounds == 0);
+      // Along its axis the part is corrected at the approach, where its end is clear of the target
+      // (an IC2 approach leaves millimetres there); the waypoints after it are short moves.
+      const Correction corr = compute_correction(m, way, orient && o.rounds == 0, w == 0);
       o.log.push_back("round " + std::to_string(o.rounds + 1) + ": measured lateral error " +
-                      fmt(corr.lateral_mm * 1e3) + " um, axis " + fmt(corr.angle_deg) + " deg");
-      const bool settled = corr.lateral_mm < s.verify_mm && (!orient || corr.angle_deg < cs.clearance.angle_deg / 2);
+                      fmt(corr.lateral_mm * 1e3) + " um, along the axis " + fmt(corr.axial_mm * 1e3) + " um, axis " +
+                      fmt(corr.angle_deg) + " deg");
+      const bool settled = corr.lateral_mm < s.verify_mm && std::abs(corr.axial_mm) < s.verify_axial_mm &&
+                           (!orient || corr.angle_deg < cs.clearance.angle_deg / 2);
       if ((settled && (round > 0 || w > 0)) || round == s.max_rounds) break;
       const planning::Trajectory tr = plan(c, c.nominal.fk(q), corr.delta, s);
       if (!tr.ok) return refuse(tr.reason);

@@ -52,6 +52,15 @@ SimSetup prepare_setting(const cell::Cell& c, int k, const ControllerSettings& s
   su.q_scan = ik_or_throw(c.trueS, sensor_true * c.T_flange_sensor_true.inverse(), cs.q_sense_hint,
                           cs.file + ": scan pose of setting " + std::to_string(k));
   su.T_world_sensor_start = c.nominal.fk(su.q_scan) * cs.T_flange_sensor;
+  // The raised search pose is commanded, not taught: the nominal model's IK of the scan pose moved
+  // back along the view axis, so the true sensor lands there with the arm's model error.
+  su.q_scan_raised = su.q_scan, su.T_world_sensor_raised = su.T_world_sensor_start;
+  if (cs.search_raise_mm > 0) {
+    const Pose raised = su.T_world_sensor_start * Eigen::Translation3d(0, 0, -cs.search_raise_mm);
+    su.q_scan_raised = ik_or_throw(c.nominal, raised * cs.T_flange_sensor.inverse(), su.q_scan,
+                                   cs.file + ": raised scan pose of setting " + std::to_string(k));
+    su.T_world_sensor_raised = c.nominal.fk(su.q_scan_raised) * cs.T_flange_sensor;
+  }
   // References: what the scene's sweep sees of the target and of the part at its approach pose
   // (the designed geometry; the arms' beliefs do not enter).
   Pose approach = cs.T_target_part_insert;
@@ -63,15 +72,17 @@ SimSetup prepare_setting(const cell::Cell& c, int k, const ControllerSettings& s
 }
 
 PointCloud scan_cell(const cell::Cell& c, const SimSetup& su, const Pose& T_world_part_true, uint64_t seed,
-                     std::mt19937_64& g, double sweep_mm) {
+                     std::mt19937_64& g, double sweep_mm, bool raised) {
   const auto& cs = c.s;
   scan::ScanScene sc = cs.scene;
   sc.seed = seed;
   // The sensing arm's true sensor pose vs the one it believes: the scan is computed in the
   // believed frame, so the objects move by the difference.
-  const Pose T_true = robot::with_repeatability(c.trueS.fk(su.q_scan), cs.arm_errors, g) * c.T_flange_sensor_true;
-  const Pose to_believed = su.T_world_sensor_start * T_true.inverse();
-  sc.settings.sweep.T_base_sensor_start = su.T_world_sensor_start;
+  const robot::Joints& q = raised ? su.q_scan_raised : su.q_scan;
+  const Pose& believed = raised ? su.T_world_sensor_raised : su.T_world_sensor_start;
+  const Pose T_true = robot::with_repeatability(c.trueS.fk(q), cs.arm_errors, g) * c.T_flange_sensor_true;
+  const Pose to_believed = believed * T_true.inverse();
+  sc.settings.sweep.T_base_sensor_start = believed;
   sc.settings.motion.offset_sigma_mm = 0, sc.settings.motion.offset_sigma_deg = 0;  // the arm model has them
   // A longer sweep starts earlier by half the extra length: the same straight motion of the
   // sensing arm, whose (linear, mm-short) error the sweep model already neglects.

@@ -21,6 +21,8 @@ Pose error_pose(const RigidError& e);
 struct Clearance {
   double x_mm = 0.075, y_mm = 0.075;  // half-widths at the mouth, target frame
   double angle_deg = 2.0;             // between the part's and the required insertion axis
+  double depth_mm = 0.0;              // how far short of the insertion point (along its axis) the
+                                      // part's tip may stop and still count: it must have entered
 };
 
 struct CellSettings {
@@ -50,6 +52,9 @@ struct CellSettings {
   robot::Joints q_sense_hint = robot::Joints::Zero();  // sensing arm near its scan pose
   double search_sweep_mm = 0;         // when the part is not found, re-scan with a sweep this long
                                       // (same centre); 0: the scene's sweep only
+  double search_raise_mm = 0;         // when not found in the search sweep either, the next scan
+                                      // is taken from this much farther back along the view axis
+                                      // (the part may be nearer than the measuring range); 0: no
   double ic2_joint1_deg = 90;         // IC2 = IC1 with this added to joint 1
   int start_configs = 10;             // q^(1..N), each farther from the insertion pose
   double start_step_mm = 25;          //   the i-th starts i * step from it

@@ -31,6 +31,8 @@ struct ControllerSettings {
   int max_scans = 3;                    // scans per measurement (re-scan on a rejected registration)
   int max_rounds = 3;                   // correction rounds, each verified by a new scan
   double verify_mm = 0.02;              // measured lateral residual that ends the rounds
+  double verify_axial_mm = 0.05;        //   and along the insertion axis (a tip is measured to
+                                        //   about one 10 um profile step)
   size_t reference_points = 60000;
   double prior_radius_mm = 1.0;         // scan points this near a prior-placed reference are a
                                         // candidate part (else the clusters nearest the prior)
@@ -56,9 +58,14 @@ struct Measurement {
 struct Correction {
   Pose delta = Pose::Identity();
   double lateral_mm = 0;                // residual perpendicular to the insertion axis
+  double axial_mm = 0;                  // along it (> 0: the part must move further in); 0 when
+                                        // the scan could not fix the part along its own axis
   double angle_deg = 0;
 };
-Correction compute_correction(const Measurement& m, const Pose& T_target_part_goal, bool with_orientation);
+// with_axial = false: the part is not moved along its own axis (once its end is near or in the
+// target, the target hides it and the measured end is short).
+Correction compute_correction(const Measurement& m, const Pose& T_target_part_goal, bool with_orientation,
+                              bool with_axial = true);
 
 // Accept or reject a registration for the task (ok; or ambiguous about the declared harmless DoF).
 bool acceptable(const registration::RegistrationResult& r, const std::string& weak_rotation_axis,

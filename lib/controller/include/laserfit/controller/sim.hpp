@@ -16,6 +16,8 @@ struct SimSetup {
   std::vector<robot::Joints> q_start;   // q^(1..N)
   robot::Joints q_scan;                 // sensing arm at the sweep start
   Pose T_world_sensor_start;            // believed (nominal fk)
+  robot::Joints q_scan_raised;          // the search pose search_raise_mm farther back (nominal IK)
+  Pose T_world_sensor_raised;           // believed (nominal fk)
   PointCloud target_ref, part_ref;      // what the nominal sweep sees of each
 };
 SimSetup prepare_setting(const cell::Cell& c, int setting, const ControllerSettings& s, uint64_t seed);
@@ -37,8 +39,9 @@ io::Json outcome_json(const Outcome& o);
 
 // A scan of the cell as it truly is, in the frame the sensing arm believes (what the real sensor
 // delivers): the sensing arm at q_scan (its repeatability drawn from g), the part where it is.
-// sweep_mm > the scene's sweep: a longer sweep about the same centre (a search scan).
+// sweep_mm > the scene's sweep: a longer sweep about the same centre (a search scan); raised:
+// from the sensing arm's raised search pose (q_scan_raised).
 PointCloud scan_cell(const cell::Cell& c, const SimSetup& su, const Pose& T_world_part_true, uint64_t seed,
-                     std::mt19937_64& g, double sweep_mm = 0);
+                     std::mt19937_64& g, double sweep_mm = 0, bool raised = false);
 
 }  // namespace laserfit::controller
