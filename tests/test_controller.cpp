@@ -14,7 +14,25 @@ using namespace laserfit;
 
 namespace {
 const std::string kCells = std::string(LASERFIT_SOURCE_DIR) + "/cells/";
+
+// Scan points on a thread tip at T_scan_part (where the sensing arm believes it): within 0.3 mm
+// of its last 4 mm (the part frame's z points out of the tip).
+int points_on_part(const PointCloud& scan, const Pose& T_scan_part) {
+  int n = 0;
+  for (const auto& x : scan.points) {
+    if (!x.allFinite()) continue;
+    const Eigen::Vector3d q = T_scan_part.inverse() * x.cast<double>();
+    n += q.z() <= 0.01 && q.z() >= -4.01 && q.head<2>().norm() < 0.3;
+  }
+  return n;
 }
+
+// Where the sensing arm at q, believing its sensor at T_world_sensor, sees a part truly at
+// T_world_part (its repeatability, ~0.05 mm, left out).
+Pose seen_at(const cell::Cell& c, const robot::Joints& q, const Pose& T_world_sensor, const Pose& T_world_part) {
+  return T_world_sensor * (c.trueS.fk(q) * c.T_flange_sensor_true).inverse() * T_world_part;
+}
+}  // namespace
 
 TEST(Controller, CellFilesLoadAndBadOnesNameTheProblem) {
   const auto c = cell::load_cell(kCells + "needle.yaml");
@@ -157,9 +175,8 @@ TEST(Controller, UnobservableSpinIsTakenFromThePrior) {
 }
 
 // A part outside the scene's 6 mm sweep (8 mm along the sweep direction) returns nothing from
-// it; the search sweep (32 mm, same centre) sees it. Points of the part: within 0.3 mm of its
-// 4 mm axis where the sensing arm believes it (its repeatability, ~0.05 mm, left out).
-// Tolerance: >= 30 points (217 measured); none from the short sweep.
+// it; the search sweep (32 mm, same centre) sees it. Tolerance: >= 30 points on the part (217
+// measured); none from the short sweep.
 TEST(Controller, SearchSweepSeesAPartOutsideTheSceneSweep) {
   const auto cs = cell::load_cell(kCells + "needle.yaml");
   ASSERT_GT(cs.search_sweep_mm, cs.scene.settings.sweep.length_mm);
@@ -169,21 +186,59 @@ TEST(Controller, SearchSweepSeesAPartOutsideTheSceneSweep) {
   approach.translation() = cs.approach_mm;
   Pose part = su.T_world_target * approach;
   part.translation().y() += 8;  // the sweep runs along the world's y (scene file)
-  const Pose believed = su.T_world_sensor_start * (c.trueS.fk(su.q_scan) * c.T_flange_sensor_true).inverse() * part;
-  auto on_part = [&](const PointCloud& p) {
-    int n = 0;
-    for (const auto& x : p.points) {
-      if (!x.allFinite()) continue;
-      const Eigen::Vector3d q = believed.inverse() * x.cast<double>();  // part frame: axis along -z
-      n += q.z() <= 0.01 && q.z() >= -4.01 && q.head<2>().norm() < 0.3;
-    }
-    return n;
-  };
+  const Pose believed = seen_at(c, su.q_scan, su.T_world_sensor_start, part);
   std::mt19937_64 g(1);
-  EXPECT_EQ(on_part(controller::scan_cell(c, su, part, 5, g)), 0);
+  EXPECT_EQ(points_on_part(controller::scan_cell(c, su, part, 5, g), believed), 0);
   const PointCloud wide = controller::scan_cell(c, su, part, 5, g, cs.search_sweep_mm);
   scan::SweepSettings longer = cs.scene.settings.sweep;
   longer.length_mm = cs.search_sweep_mm;
   EXPECT_EQ(wide.height, longer.profiles());
-  EXPECT_GE(on_part(wide), 30);
+  EXPECT_GE(points_on_part(wide, believed), 30);
+}
+
+// A thread 12 mm above its approach pose (14 mm above the needle; an IC2 approach can leave it
+// there) is nearer than the scanner's 77.5 mm near limit from the scan pose: no point of it
+// even in the long sweep. From the raised pose (8 mm back, the needle at ~98 of 102.5 mm) it is
+// in range. Tolerance: >= 30 points on the part from the raised scan (199 measured); none from
+// the other.
+TEST(Controller, RaisedScanSeesAPartAboveTheMeasuringRange) {
+  const auto cs = cell::load_cell(kCells + "needle.yaml");
+  ASSERT_GT(cs.search_raise_mm, 0);
+  const cell::Cell c(cs, 3);
+  const auto su = controller::prepare_setting(c, 0, controller::ControllerSettings{}, 3);
+  // The raised pose is the scan pose moved back along the view axis, as the nominal model has it.
+  const Pose back = su.T_world_sensor_start.inverse() * su.T_world_sensor_raised;
+  EXPECT_LT((back.translation() - Eigen::Vector3d(0, 0, -cs.search_raise_mm)).norm(), 0.01);
+  Pose approach = cs.T_target_part_insert;
+  approach.translation() = cs.approach_mm;
+  Pose part = su.T_world_target * approach;
+  part.translation().z() += 12;
+  std::mt19937_64 g(1);
+  const PointCloud near = controller::scan_cell(c, su, part, 5, g, cs.search_sweep_mm);
+  EXPECT_EQ(points_on_part(near, seen_at(c, su.q_scan, su.T_world_sensor_start, part)), 0);
+  const PointCloud raised = controller::scan_cell(c, su, part, 5, g, cs.search_sweep_mm, true);
+  EXPECT_GE(points_on_part(raised, seen_at(c, su.q_scan_raised, su.T_world_sensor_raised, part)), 30);
+}
+
+// The correction puts the part on its goal relative to the measured target; along the part's
+// own axis only where that is measured and asked for. Tolerance 1e-9 mm (pure algebra).
+TEST(Controller, CorrectsAlongThePartsAxisOnlyWhereMeasured) {
+  controller::Measurement m;
+  m.T_scan_target = pose_from_tq({450, 100, 250}, Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ())));
+  Pose goal = Pose::Identity();  // the part 2 mm above the target, pointing down (-z)
+  goal.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  goal.translation() = Eigen::Vector3d(0, 0, 2);
+  const Pose goal_scan = m.T_scan_target * goal;
+  const Eigen::Vector3d axis = goal_scan.linear().col(2), side = goal_scan.linear().col(0);
+  m.T_scan_part = goal_scan;
+  m.T_scan_part.translation() += -3.0 * axis + 0.2 * side;  // 3 mm short (above), 0.2 mm aside
+  auto c = controller::compute_correction(m, goal, false);
+  EXPECT_NEAR(c.axial_mm, 3.0, 1e-9);
+  EXPECT_NEAR(c.lateral_mm, 0.2, 1e-9);
+  EXPECT_LT((c.delta.translation() - (3.0 * axis - 0.2 * side)).norm(), 1e-9);
+  c = controller::compute_correction(m, goal, false, false);  // near the target: lateral only
+  EXPECT_NEAR(c.axial_mm, 0.0, 1e-9);
+  EXPECT_LT((c.delta.translation() + 0.2 * side).norm(), 1e-9);
+  m.part_axial_unknown = true;  // the scan could not fix it: not corrected either
+  EXPECT_NEAR(controller::compute_correction(m, goal, false).axial_mm, 0.0, 1e-9);
 }
