@@ -164,6 +164,7 @@ TEST(Bench, ShardsMergedEqualOneRunAndAnInterruptedRunResumes) {
   bench::run_benchmark(b, quiet_run(dir / "single"));
   const auto single = without_timing(bench::read_results(dir / "single/results.jsonl"));
   ASSERT_EQ(single.size(), 4u);
+  for (const auto& r : single) EXPECT_GT(r.at("visible_points").get<long>(), 1000);  // the socket is in view
   std::vector<std::string> shards;
   for (int i = 0; i < 2; ++i) {
     auto s = quiet_run(dir / ("shard" + std::to_string(i)));
@@ -198,6 +199,25 @@ TEST(Bench, ShardsMergedEqualOneRunAndAnInterruptedRunResumes) {
   header["methods"] = {"gicp"};
   test::write_text(dir / "other/journal.jsonl", header.dump() + "\n");
   EXPECT_THROW(bench::run_benchmark(b, quiet_run(dir / "other")), Error);
+}
+
+// An unsuccessful record whose target left fewer than kMinVisiblePoints in the scan counts as
+// "not visible"; a visible miss, a success, or a record without the count (older runs) does not.
+TEST(Bench, UnsuccessfulRecordsOfAbsentTargetsAreCountedApart) {
+  auto rec = [](bool success, long visible) {
+    io::Json r = {{"success", success}, {"false_accept", false}, {"status", success ? "ok" : "failed"},
+                  {"expect", "pose"}, {"t_err_um", 1.0}, {"r_err_deg", 0.01},
+                  {"timing", {{"time_s", 0.1}, {"peak_rss_mb", 10.0}}}};
+    if (visible >= 0) r["visible_points"] = visible;
+    return r;
+  };
+  const std::vector<io::Json> rs = {rec(false, bench::kMinVisiblePoints - 1), rec(false, bench::kMinVisiblePoints),
+                                    rec(true, 3), rec(false, -1), rec(false, 0)};
+  std::vector<const io::Json*> ptr;
+  for (const auto& r : rs) ptr.push_back(&r);
+  const auto g = bench::group_stats(ptr);
+  EXPECT_EQ(g.not_visible, 2);
+  EXPECT_EQ(g.failed, 4);
 }
 
 TEST(Bench, DatasetIsByteIdenticalAndGivesTheSameRecordsAsMemory) {

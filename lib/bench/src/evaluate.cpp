@@ -82,6 +82,12 @@ std::vector<io::Json> run_trial(const Benchmark& b, const PreparedScene& p, cons
   const Eigen::Vector3d viewpoint = viewpoint_of(in.scan);
   for (size_t k = 0; k < sc.targets.size(); ++k) {
     const Target& tg = sc.targets[k];
+    // How much of the target the scan holds (its labelled points; -1: a scan without labels):
+    // a perturbation can move a 150 um thread out of the sweep or the measuring range, and a
+    // registration that then fails has not missed anything.
+    long visible = in.scan.labels.empty() ? -1 : 0;
+    for (size_t i = 0; i < in.scan.labels.size(); ++i)
+      visible += in.scan.labels[i] == p.object[k] && in.scan.points[i].allFinite();
     for (const auto& m : o.methods) {
       auto rs = method_settings(m, tg, o.thresholds);
       rs.q0 = Eigen::Quaterniond(in.prior[k].rotation());
@@ -134,7 +140,7 @@ std::vector<io::Json> run_trial(const Benchmark& b, const PreparedScene& p, cons
                      {"r_err_full_deg", full.r_deg}, {"mssd_um", e.mssd_mm * 1e3},
                      {"fitness_mm2", res.fitness_mm2}, {"rmse_um", res.inlier_rmse_mm * 1e3},
                      {"overlap", res.overlap}, {"attempts", res.attempts}, {"voxel_mm", res.voxel_mm},
-                     {"scan_points", in.scan_points}, {"T_scan_ref", io::pose_to_json(res.T_scan_ref).at("matrix")},
+                     {"scan_points", in.scan_points}, {"visible_points", visible}, {"T_scan_ref", io::pose_to_json(res.T_scan_ref).at("matrix")},
                      {"timing", timing}});
       if (!o.overlay_dir.empty() && t.cell == 0 && t.repetition == 0)
         write_overlay(o.overlay_dir + "/" + sc.name + "_" + tg.object + "_" + m + ".pcd", in.scan, p.reference[k],

@@ -77,14 +77,15 @@ std::string table_row(const std::string& head, const std::vector<const Json*>& r
   const bench::GroupStats g = bench::group_stats(rs);
   std::ostringstream o;
   o << "| " << head << " | " << g.records << " | " << fmt(100.0 * g.success_rate(), 4) << " % | " << g.false_accepts
-    << " | " << g.ambiguous << " | " << g.failed << " | " << fmt(g.t_median_um) << " / " << fmt(g.t_p95_um) << " | "
+    << " | " << g.ambiguous << " | " << g.failed << " | " << g.not_visible << " | " << fmt(g.t_median_um) << " / " << fmt(g.t_p95_um) << " | "
     << fmt(g.r_median_deg) << " / " << fmt(g.r_p95_deg) << " | " << fmt(g.time_median_s) << " / "
     << fmt(g.time_p95_s) << " | " << fmt(g.peak_rss_mb, 4) << " |\n";
   return o.str();
 }
 
 const char* kTableHead =
-    "| registrations | success | false accepts | ambiguous | failed | t error median / p95 (µm) | r error median / p95 (°) "
+    "| registrations | success | false accepts | ambiguous | failed | unsuccessful, target not visible | "
+    "t error median / p95 (µm) | r error median / p95 (°) "
     "| time median / p95 (s) | peak memory (MiB) |\n";
 
 }  // namespace
@@ -131,10 +132,10 @@ ReportSummary make_report(const ReportSettings& s) {
         "symmetry, `weak_rotation`, `weak_translation`) with the rest of the pose within tolerance; for a "
         "wrong-object trial, any status but `ok`. A false accept is an `ok` outside tolerance. "
         "Errors are over the registrations that returned a pose (status not `failed`).\n\n";
-  md << "## Per method\n\n| method " << kTableHead << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  md << "## Per method\n\n| method " << kTableHead << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& [m, rs] : by_method) md << table_row(m, rs);
   md << "\n## Per scene and object\n\n| scene | object | method " << kTableHead
-     << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+     << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& [k, rs] : by_target) md << table_row(k, rs);
 
   md << "\n## Figures\n\n";

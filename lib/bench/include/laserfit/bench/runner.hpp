@@ -42,9 +42,13 @@ void write_results(const std::string& dir, const std::vector<io::Json>& records,
 
 // The figures of a group of records: success, false accepts, ambiguous and failed counts, the
 // errors of the poses returned (status not failed, a pose expected), time and peak memory.
+// A target with fewer labelled scan points than the thin-part detector's smallest candidate
+// (ThinPartSettings::min_points) cannot be registered by any method: "not visible".
+constexpr long kMinVisiblePoints = 15;
 struct GroupStats {
   size_t records = 0;
   int successes = 0, false_accepts = 0, ambiguous = 0, failed = 0;
+  int not_visible = 0;                  // unsuccessful with the target (nearly) absent from the scan
   double t_median_um = 0, t_p95_um = 0, r_median_deg = 0, r_p95_deg = 0;
   double time_median_s = 0, time_p95_s = 0, peak_rss_mb = 0;
   double success_rate() const { return records ? double(successes) / double(records) : 0; }
@@ -52,7 +56,7 @@ struct GroupStats {
 GroupStats group_stats(const std::vector<const io::Json*>& records);
 
 // Per (method, scene, object) and per method overall: success rate, false accepts, ambiguous,
-// failed, median / p95 errors over the poses returned (status not failed), time, peak memory.
+// failed, not visible, median / p95 errors over the poses returned (status not failed), time, peak memory.
 std::string summary_csv(const std::vector<io::Json>& records);
 
 }  // namespace laserfit::bench
