@@ -87,6 +87,22 @@ TEST(ThinPart, DetectsTheThreadTipFromAPriorMillimetresOff) {
   EXPECT_EQ(seg.T_scan_ref.matrix(), r.T_scan_ref.matrix());
 }
 
+// Two stray points on the cylinder's band 0.2 and 0.3 mm past the tip (as mixed pixels between
+// the thread's end and the needle under it leave them) do not move the tip: tolerance 40 um
+// along the axis, as above (taken as the end, they would put it 0.3 mm too far).
+TEST(ThinPart, StrayPointsPastTheTipAreNotTheTip) {
+  const auto& t = thread_scene();
+  PointCloud scan = t.scan.cloud;
+  const Eigen::Vector3d axis = t.truth.rotation().col(2), tip = t.truth.translation();
+  Eigen::Vector3d side = t.viewpoint - tip;  // the band faces the sensor
+  side = (side - axis * axis.dot(side)).normalized();
+  scan.points[0] = (tip + axis * 0.1 + side * 0.075).cast<float>();
+  scan.points[1] = (tip + axis * 0.2 + side * 0.075).cast<float>();
+  const auto r = reg::register_cloud(scan, t.ref, settings_with_prior(t));
+  ASSERT_EQ(r.status, reg::Status::Ambiguous) << r.reason;
+  EXPECT_LT(std::abs((r.T_scan_ref.translation() - tip).dot(axis)) * 1e3, 40.0);
+}
+
 TEST(ThinPart, FailsWhenNothingOfTheReferencesRadiusIsThere) {
   // A reference three times as thick (225 um): the band the thread shows is too narrow for it.
   const auto& t = thread_scene();
