@@ -43,7 +43,8 @@ Correction compute_correction(const Measurement& m, const Pose& T_target_part_go
   Correction c;
   Eigen::Vector3d dt = goal.translation() - m.T_scan_part.translation();
   const Eigen::Vector3d axis = goal.linear().col(2);       // the insertion axis
-  // An axial position the scan could not fix is not corrected (it is the insertion motion's job).
+  // Not along the part's own axis where the scan could not fix it, or where the caller says the
+  // target hides the part's end (the measured end is short there).
   if (m.part_axial_unknown || !with_axial) {
     const Eigen::Vector3d a = m.T_scan_part.linear().col(2);
     dt -= a * a.dot(dt);

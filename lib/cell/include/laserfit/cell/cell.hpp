@@ -23,6 +23,7 @@ struct Clearance {
   double angle_deg = 2.0;             // between the part's and the required insertion axis
   double depth_mm = 0.0;              // how far short of the insertion point (along its axis) the
                                       // part's tip may stop and still count: it must have entered
+                                      // (0: at least at the insertion point)
 };
 
 struct CellSettings {
