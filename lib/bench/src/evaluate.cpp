@@ -140,7 +140,8 @@ std::vector<io::Json> run_trial(const Benchmark& b, const PreparedScene& p, cons
                      {"r_err_full_deg", full.r_deg}, {"mssd_um", e.mssd_mm * 1e3},
                      {"fitness_mm2", res.fitness_mm2}, {"rmse_um", res.inlier_rmse_mm * 1e3},
                      {"overlap", res.overlap}, {"attempts", res.attempts}, {"voxel_mm", res.voxel_mm},
-                     {"scan_points", in.scan_points}, {"visible_points", visible}, {"T_scan_ref", io::pose_to_json(res.T_scan_ref).at("matrix")},
+                     {"scan_points", in.scan_points}, {"visible_points", visible},
+                     {"T_scan_ref", io::pose_to_json(res.T_scan_ref).at("matrix")},
                      {"timing", timing}});
       if (!o.overlay_dir.empty() && t.cell == 0 && t.repetition == 0)
         write_overlay(o.overlay_dir + "/" + sc.name + "_" + tg.object + "_" + m + ".pcd", in.scan, p.reference[k],

@@ -131,10 +131,10 @@ std::string assess(const std::vector<Eigen::Vector3d>& all, const ThinProfile& p
   std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
   const double step = steps.empty() ? 0.0 : steps[steps.size() / 2];
   c.fit.axis = a;
-  // The seen end: the last point not cut off from the rest by a gap of more than two steps. A
-  // stray point beyond the end (a mixed pixel or an outlier of the surface under the tip that
-  // happens to lie on the cylinder's band) is; taken as the end it put the tip 0.15-0.36 mm too
-  // far (the controller campaign's trial 584).
+  // The seen end: the last point not cut off from the rest by a gap of more than two steps.
+  // Stray points beyond the end (mixed pixels or outliers of the surface under the tip that
+  // happen to lie on the cylinder's band) are cut off so; taken as the end, they put the tip
+  // 0.15-0.36 mm too far (the controller campaign's trial 584).
   size_t end = s_ax.size() - 1;
   while (step > 0 && end >= 1 && s_ax[end] - s_ax[end - 1] > 2 * step) --end;
   c.data_tip = f.point + a * s_ax[end];

@@ -77,7 +77,8 @@ std::string table_row(const std::string& head, const std::vector<const Json*>& r
   const bench::GroupStats g = bench::group_stats(rs);
   std::ostringstream o;
   o << "| " << head << " | " << g.records << " | " << fmt(100.0 * g.success_rate(), 4) << " % | " << g.false_accepts
-    << " | " << g.ambiguous << " | " << g.failed << " | " << g.not_visible << " | " << fmt(g.t_median_um) << " / " << fmt(g.t_p95_um) << " | "
+    << " | " << g.ambiguous << " | " << g.failed << " | " << g.not_visible << " | " << fmt(g.t_median_um) << " / "
+    << fmt(g.t_p95_um) << " | "
     << fmt(g.r_median_deg) << " / " << fmt(g.r_p95_deg) << " | " << fmt(g.time_median_s) << " / "
     << fmt(g.time_p95_s) << " | " << fmt(g.peak_rss_mb, 4) << " |\n";
   return o.str();

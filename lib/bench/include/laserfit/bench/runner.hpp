@@ -43,8 +43,8 @@ void write_results(const std::string& dir, const std::vector<io::Json>& records,
 // The figures of a group of records: success, false accepts, ambiguous and failed counts, the
 // errors of the poses returned (status not failed, a pose expected), time and peak memory.
 // A target with fewer labelled scan points than the thin-part detector's smallest candidate
-// (ThinPartSettings::min_points) cannot be registered by any method: "not visible".
-constexpr long kMinVisiblePoints = 15;
+// cannot be registered by any method: "not visible".
+inline const long kMinVisiblePoints = registration::ThinSettings{}.min_points;
 struct GroupStats {
   size_t records = 0;
   int successes = 0, false_accepts = 0, ambiguous = 0, failed = 0;
