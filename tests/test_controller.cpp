@@ -242,3 +242,22 @@ TEST(Controller, CorrectsAlongThePartsAxisOnlyWhereMeasured) {
   m.part_axial_unknown = true;  // the scan could not fix it: not corrected either
   EXPECT_NEAR(controller::compute_correction(m, goal, false).axial_mm, 0.0, 1e-9);
 }
+
+TEST(Controller, AxialTrustRegionLimitsOnlyTheMoveAlongTheAxis) {
+  controller::Measurement m;
+  m.T_scan_target = pose_from_tq({450, 100, 250}, Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ())));
+  Pose goal = Pose::Identity();  // the part 0.8 mm above the target, pointing down (-z)
+  goal.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  goal.translation() = Eigen::Vector3d(0, 0, 0.8);
+  const Pose goal_scan = m.T_scan_target * goal;
+  const Eigen::Vector3d axis = goal_scan.linear().col(2), side = goal_scan.linear().col(1);
+  for (const double along : {3.0, -0.5, 0.1}) {  // measured short, too far, and within the gate
+    m.T_scan_part = goal_scan;
+    m.T_scan_part.translation() += -along * axis + 0.04 * side;
+    const auto c = controller::limit_axial(controller::compute_correction(m, goal, false), 0.3);
+    const double expect = std::clamp(along, -0.3, 0.3);
+    EXPECT_NEAR(c.axial_mm, expect, 1e-9) << along;   // at most the gate along the axis,
+    EXPECT_NEAR(c.lateral_mm, 0.04, 1e-9) << along;   // the lateral correction untouched
+    EXPECT_LT((c.delta.translation() - (expect * axis - 0.04 * side)).norm(), 1e-9) << along;
+  }
+}

@@ -1,5 +1,6 @@
 // Decisions from measurements: which registrations to trust, the relative correction, its plan.
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <sstream>
 
 #include "laserfit/controller/controller.hpp"
@@ -51,6 +52,7 @@ Correction compute_correction(const Measurement& m, const Pose& T_target_part_go
   }
   c.lateral_mm = (dt - axis * axis.dot(dt)).norm();
   c.axial_mm = axis.dot(dt);
+  c.axis = axis;
   const Eigen::Matrix3d dR = goal.linear() * m.T_scan_part.linear().transpose();
   c.angle_deg = Eigen::AngleAxisd(dR).angle() * 180 / M_PI;
   if (with_orientation) {
@@ -60,6 +62,13 @@ Correction compute_correction(const Measurement& m, const Pose& T_target_part_go
   } else {
     c.delta.translation() = dt;
   }
+  return c;
+}
+
+Correction limit_axial(Correction c, double max_mm) {
+  const double excess = c.axial_mm - std::clamp(c.axial_mm, -max_mm, max_mm);
+  c.delta.translation() -= c.axis * excess;  // the tip lands `excess` short of the goal
+  c.axial_mm -= excess;
   return c;
 }
 

@@ -57,7 +57,7 @@ Pose with_prior_spin(const Pose& T, const Pose& prior, const Eigen::Vector3d& e)
 Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const PointCloud& part_ref,
                     const Pose& target_prior, const Pose& part_prior, const cell::CellSettings& cs,
                     const ControllerSettings& s, uint64_t seed, std::vector<std::string>& log,
-                    const std::optional<Pose>& tracked_target) {
+                    const std::optional<Pose>& tracked_target, const std::optional<Pose>& tracked_part) {
   Measurement m;
   const auto& tname = cs.scene.objects[cs.target].name, &pname = cs.scene.objects[cs.part].name;
   std::string why;
@@ -94,7 +94,10 @@ Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const 
   // The part's prior relative to the measured target: both priors come from arm A's model and
   // share its absolute error (mm), the scan is in arm B's frame with its own; relative to the
   // target only the error between teaching and now is left.
-  const Pose relative_prior = m.T_scan_target * target_prior.inverse() * part_prior;
+  // Better still, the last measurement moved by the commands since (their error is ~0.1 of their
+  // length, the model's is mm): a thread that returned nothing from a few profiles is seen in
+  // pieces, and the piece nearest a prior mm off need not hold the tip (trial 441: 3 mm short).
+  const Pose relative_prior = m.T_scan_target * (tracked_part ? *tracked_part : target_prior.inverse() * part_prior);
   m.part = register_one(scan, part_ref, relative_prior, pname, s, seed + 1);
   m.T_scan_part = m.part.T_scan_ref;
   if (!acceptable(m.part, cs.part_weak_rotation, cs.part_weak_translation, m.T_scan_part, &why)) {

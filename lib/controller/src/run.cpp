@@ -60,6 +60,7 @@ Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy
   const bool orient = strategy == Strategy::LaserPose;
   Measurement m;
   std::optional<Pose> tracked;  // the target's last trusted measurement (scan frame)
+  std::optional<Pose> tracked_part;  // the part relative to the target: last measured, then moved
   auto refuse = [&](const std::string& why) {
     o.result = "refused: " + why;
     o.log.push_back(o.result);
@@ -75,6 +76,7 @@ Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy
     const robot::Joints hold = q;
     const Pose& B = c.T_world_baseA_believed;
     part = move(c, q, B.inverse() * delta * B * c.nominal.fk(q), hold, ms, rep, g);
+    if (tracked_part) tracked_part = m.T_scan_target.inverse() * delta * m.T_scan_target * *tracked_part;
   };
   // Waypoints from the approach toward the insertion, each reached and verified by scans: an
   // unverified move of d mm on an arm whose model is off by a few degrees lands d * sin(error)
@@ -95,8 +97,10 @@ Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy
     way = next;
     const Pose& Q = cs.T_target_part_insert;
     const bool outside = (way.translation() - Q.translation()).dot(Q.linear().col(2)) < -cs.clearance.depth_mm;
+    const bool gated = w > 0;  // the approach has been corrected: the axial trust region applies
     for (int round = 0; round <= s.max_rounds; ++round, ++o.rounds) {
       m = Measurement{};
+      Correction corr;
       double sweep_mm = 0;  // the scene's
       bool raised = false;
       for (int k = 0; k < s.max_scans && !m.ok; ++k) {  // scan until the registrations are trusted
@@ -111,7 +115,7 @@ Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy
           io::write_cloud(s.dump_dir + "/part_ref" + tag + ".pcd", su.part_ref);
         }
         m = measure(scan, su.target_ref, su.part_ref, su.T_world_target_believed, c.part_believed(q), cs, s, scan_seed,
-                    o.log, tracked);
+                    o.log, tracked, tracked_part);
         if (m.target_ok) tracked = m.T_scan_target;
         // The target was seen but not the part: the approach may have left it outside the sweep,
         // and then (not in the long sweep either) nearer to the scanner than its measuring range.
@@ -123,6 +127,18 @@ Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy
           raised = true;
           o.log.push_back(not_found + "from " + fmt(cs.search_raise_mm) + " mm farther back");
         }
+        if (!m.ok) continue;
+        // The pose strategy corrects the orientation in the first round, the position after.
+        // Along its axis the part is corrected while its end is still outside the target (above
+        // the mouth): an IC2 approach leaves millimetres there, and each unverified move of d mm
+        // lands ~0.1 d off. Inside, the target hides the end and the measured end is short.
+        corr = compute_correction(m, way, orient && o.rounds == 0, outside);
+        if (gated && std::abs(corr.axial_mm) > s.axial_gate_mm && k + 1 < s.max_scans) {
+          m.ok = false;  // a thread end cut short or lengthened by the needle under it: look again
+          o.log.push_back("implausible: " + fmt(corr.axial_mm * 1e3) + " um along the axis after a verified move; re-scan");
+        } else {
+          tracked_part = m.T_scan_target.inverse() * m.T_scan_part;
+        }
       }
       if (!m.ok) return refuse(m.reason + " after " + std::to_string(s.max_scans) + " scans");
       {  // What the simulation knows and the controller does not: the true error, for the log only.
@@ -131,22 +147,20 @@ Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy
         o.log.push_back("  truth (simulation only): lateral error " + fmt((e - n * n.dot(e)).norm() * 1e3) +
                         " um, along the axis " + fmt(n.dot(e) * 1e3) + " um");
       }
-      // The pose strategy corrects the orientation in the first round, the position after.
-      // Along its axis the part is corrected while its end is still outside the target (above
-      // the mouth): an IC2 approach leaves millimetres there, and each unverified move of d mm
-      // lands ~0.1 d off. Inside, the target hides the end and the measured end is short.
-      const Correction corr = compute_correction(m, way, orient && o.rounds == 0, outside);
       o.log.push_back("round " + std::to_string(o.rounds + 1) + ": measured lateral error " +
                       fmt(corr.lateral_mm * 1e3) + " um, along the axis " + fmt(corr.axial_mm * 1e3) + " um, axis " +
                       fmt(corr.angle_deg) + " deg");
       const bool settled = corr.lateral_mm < s.verify_mm && std::abs(corr.axial_mm) < s.verify_axial_mm &&
                            (!orient || corr.angle_deg < cs.clearance.angle_deg / 2);
-      if ((settled && (round > 0 || w > 0)) || round == s.max_rounds) break;
-      const planning::Trajectory tr = plan(c, c.nominal.fk(q), corr.delta, s);
+      if (settled && (round > 0 || w > 0)) break;
+      // The last round's reading is still the best estimate: apply it, unverified like a stage move.
+      const Correction step = gated ? limit_axial(corr, s.axial_gate_mm) : corr;
+      const planning::Trajectory tr = plan(c, c.nominal.fk(q), step.delta, s);
       if (!tr.ok) return refuse(tr.reason);
-      shift(corr.delta, tr.duration_s);
+      shift(step.delta, tr.duration_s);
       o.log.push_back("corrected: " + fmt(tr.translation_mm * 1e3) + " um, " + fmt(tr.rotation_deg) + " deg in " +
-                      fmt(tr.duration_s) + " s");
+                      fmt(tr.duration_s) + " s" + (round == s.max_rounds ? " (last round, unverified)" : ""));
+      if (round == s.max_rounds) break;
     }
   }
   // Insert: the last step, along the measured target.

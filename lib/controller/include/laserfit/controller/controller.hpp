@@ -33,6 +33,10 @@ struct ControllerSettings {
   double verify_mm = 0.02;              // measured lateral residual that ends the rounds
   double verify_axial_mm = 0.05;        //   and along the insertion axis (a tip is measured to
                                         //   about one 10 um profile step)
+  double axial_gate_mm = 0.3;           // after the approach's corrections, one stage move cannot
+                                        // leave the part farther than this along its axis (it
+                                        // lands within ~0.15 mm): a larger reading is re-scanned,
+                                        // and the part moves at most this far per round along it
   size_t reference_points = 60000;
   double prior_radius_mm = 1.0;         // scan points this near a prior-placed reference are a
                                         // candidate part (else the clusters nearest the prior)
@@ -61,11 +65,16 @@ struct Correction {
   double axial_mm = 0;                  // along it (> 0: the part must move further in); 0 when
                                         // the scan could not fix the part along its own axis
   double angle_deg = 0;
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // the insertion axis (scan frame)
 };
 // with_axial = false: the part is not moved along its own axis (once its end is near or in the
 // target, the target hides it and the measured end is short).
 Correction compute_correction(const Measurement& m, const Pose& T_target_part_goal, bool with_orientation,
                               bool with_axial = true);
+
+// The correction with its move along the insertion axis limited to max_mm (a trust region: a
+// reading that is off moves the part at most that far before the next scan checks it).
+Correction limit_axial(Correction c, double max_mm);
 
 // Accept or reject a registration for the task (ok; or ambiguous about the declared harmless DoF).
 bool acceptable(const registration::RegistrationResult& r, const std::string& weak_rotation_axis,
@@ -79,7 +88,9 @@ Pose with_prior_spin(const Pose& T, const Pose& prior, const Eigen::Vector3d& e)
 Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const PointCloud& part_ref,
                     const Pose& target_prior, const Pose& part_prior, const cell::CellSettings& cs,
                     const ControllerSettings& s, uint64_t seed, std::vector<std::string>& log,
-                    const std::optional<Pose>& tracked_target = std::nullopt);  // an earlier T_scan_target
+                    const std::optional<Pose>& tracked_target = std::nullopt,  // an earlier T_scan_target
+                    const std::optional<Pose>& tracked_part = std::nullopt);   // T_target_part expected
+                                                                               // from the last measurement
 
 // The trajectory for a correction: from the flange's believed pose (A's base) to the pose that
 // applies `delta` (world frame) through the believed base-to-base transform; refused if too large.
