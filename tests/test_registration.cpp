@@ -135,6 +135,31 @@ TEST(Registration, RecoversTheUsbPlugFromANoisyScan) {
             << rot_err_deg(r.T_scan_ref, scanned.T_scan_object) << " deg, rmse " << r.inlier_rmse_mm * 1e3 << " um\n";
 }
 
+TEST(Registration, ADeclaredWeakDofIsAmbiguousUnlessClearlyPinned) {
+  const TriMesh plug = cad_mesh("usb_a_plug");
+  const Pose T = test_pose();
+  const Eigen::Vector3d front = T.rotation() * Eigen::Vector3d(0, -std::sin(0.44), std::cos(0.44));
+  const auto scanned = simulate(plug, T, front);
+  auto rs = settings_for(scanned, scanned.T_scan_object);
+  const auto r = reg::register_cloud(scanned.cloud, full_ref(plug), rs);
+  ASSERT_EQ(r.status, reg::Status::Ok) << r.reason;
+  // Declare the fit's weakest direction weak (in the plug's frame) with a ratio just above or
+  // below the fit's own: ambiguous about exactly that direction, or still ok.
+  const double ratio = r.hessian_eigenvalues[0] / r.hessian_eigenvalues[5];
+  const Eigen::Matrix<double, 6, 1> d = r.weakest_direction;
+  const bool rot = d.head<3>().norm() > d.tail<3>().norm();
+  const Eigen::Vector3d axis = r.T_scan_ref.rotation().transpose() * (rot ? d.head<3>() : d.tail<3>()).normalized();
+  (rot ? rs.trust.weak_rotation : rs.trust.weak_translation) = axis;
+  rs.trust.declared_weak_ratio = 2 * ratio;
+  const auto weak = reg::register_cloud(scanned.cloud, full_ref(plug), rs);
+  ASSERT_EQ(weak.status, reg::Status::Ambiguous) << weak.reason;
+  const Eigen::Vector3d in_scan = weak.T_scan_ref.rotation() * axis;
+  EXPECT_TRUE(rot ? reg::weakest_is_rotation_about(weak, in_scan) : reg::weakest_is_translation_along(weak, in_scan))
+      << weak.reason;
+  rs.trust.declared_weak_ratio = 0.5 * ratio;
+  EXPECT_EQ(reg::register_cloud(scanned.cloud, full_ref(plug), rs).status, reg::Status::Ok);
+}
+
 TEST(Registration, RoundPegIsAmbiguousAboutItsAxis) {
   const TriMesh peg = cad_mesh("round_peg");
   const Pose T = test_pose();

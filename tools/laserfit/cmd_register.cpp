@@ -16,6 +16,7 @@ namespace {
 
 struct Options {
   std::string scan, method = "ceres", coarse = "gated", prior, q0, viewpoint, thresholds, object, thin = "auto";
+  std::string weak_rotation, weak_translation;  // x | y | z of the reference frame
   double thin_axis_sigma = registration::ThinSettings{}.axis_prior_deg;
   CLI::App* app = nullptr;  // to tell the options given from the defaults
   std::vector<std::string> refs;
@@ -85,6 +86,8 @@ int run(const Options& o) {
   s.max_attempts = o.attempts;
   s.seed = o.seed;
   s.thin.mode = o.thin, s.thin.axis_prior_deg = o.thin_axis_sigma;
+  if (!o.weak_rotation.empty()) s.trust.weak_rotation = Eigen::Vector3d::Unit(o.weak_rotation[0] - 'x');
+  if (!o.weak_translation.empty()) s.trust.weak_translation = Eigen::Vector3d::Unit(o.weak_translation[0] - 'x');
   if (!o.prior.empty()) s.prior = parse_pose(o.prior, "--prior"), s.skip_coarse = o.refine_only;
   if (!o.q0.empty()) {
     std::istringstream in(o.q0);
@@ -160,6 +163,11 @@ Command add_register(CLI::App& root) {
       ->check(CLI::IsMember({"auto", "on", "off"}))->capture_default_str();
   app->add_option("--thin-axis-sigma", o->thin_axis_sigma, "thin parts: how good the prior's axis is (deg, 1 sigma; "
                                                            "0 = fit the axis freely)")->check(CLI::NonNegativeNumber)->capture_default_str();
+  app->add_option("--weak-rotation", o->weak_rotation, "a rotation the task expects the scan not to pin (axis of the "
+                                                     "reference frame, e.g. a needle's spin about its shaft): ambiguous "
+                                                     "about it unless clearly observable")->check(CLI::IsMember({"x", "y", "z"}));
+  app->add_option("--weak-translation", o->weak_translation, "likewise a translation (e.g. a plug's slide along "
+                                                           "itself)")->check(CLI::IsMember({"x", "y", "z"}));
   app->add_flag("--json", o->json, "machine-readable result on stdout");
   o->app = app;
   return {app, [o] { return run(*o); }};

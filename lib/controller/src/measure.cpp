@@ -17,10 +17,14 @@ Eigen::Vector3d viewpoint(const PointCloud& scan) {
 }
 
 registration::RegistrationResult register_one(const PointCloud& scan, const PointCloud& ref, const Pose& prior,
-                                              const std::string& object, const ControllerSettings& s, uint64_t seed,
-                                              bool refine_only = false) {
+                                              const std::string& object, const std::string& weak_rotation,
+                                              const std::string& weak_translation, const ControllerSettings& s,
+                                              uint64_t seed, bool refine_only = false) {
   registration::RegistrationSettings rs;
   s.thresholds.apply(rs, object);
+  // The cell's harmless DoFs are the ones the scan is expected not to pin.
+  if (!weak_rotation.empty()) rs.trust.weak_rotation = Eigen::Vector3d::Unit(weak_rotation[0] - 'x');
+  if (!weak_translation.empty()) rs.trust.weak_translation = Eigen::Vector3d::Unit(weak_translation[0] - 'x');
   rs.prior = prior;
   rs.skip_coarse = refine_only;
   rs.prior_radius_mm = s.prior_radius_mm;
@@ -61,6 +65,7 @@ Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const 
   Measurement m;
   const auto& tname = cs.scene.objects[cs.target].name, &pname = cs.scene.objects[cs.part].name;
   std::string why;
+  const std::string &tw_rot = cs.target_weak_rotation, &tw_trans = cs.target_weak_translation;
   auto check_target = [&] {
     m.T_scan_target = m.target.T_scan_ref;
     if (!acceptable(m.target, cs.target_weak_rotation, cs.target_weak_translation, m.T_scan_target, &why)) return false;
@@ -77,12 +82,12 @@ Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const 
   // enough. It also keeps the whole target together where the part's shadow cuts it in two.
   bool ok = false;
   if (tracked_target) {
-    m.target = register_one(scan, target_ref, *tracked_target, tname, s, seed, true);
+    m.target = register_one(scan, target_ref, *tracked_target, tname, tw_rot, tw_trans, s, seed, true);
     ok = check_target();
     if (!ok) log.push_back("refining " + tname + " from its last measurement: " + why + "; full registration");
   }
   if (!ok) {
-    m.target = register_one(scan, target_ref, tracked_target ? *tracked_target : target_prior, tname, s, seed);
+    m.target = register_one(scan, target_ref, tracked_target ? *tracked_target : target_prior, tname, tw_rot, tw_trans, s, seed);
     ok = check_target();
   }
   if (!ok) {
@@ -98,7 +103,8 @@ Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const 
   // length, the model's is mm): a thread that returned nothing from a few profiles is seen in
   // pieces, and the piece nearest a prior mm off need not hold the tip (trial 441: 3 mm short).
   const Pose relative_prior = m.T_scan_target * (tracked_part ? *tracked_part : target_prior.inverse() * part_prior);
-  m.part = register_one(scan, part_ref, relative_prior, pname, s, seed + 1);
+  m.part = register_one(scan, part_ref, relative_prior, pname, cs.part_weak_rotation, cs.part_weak_translation, s,
+                        seed + 1);
   m.T_scan_part = m.part.T_scan_ref;
   if (!acceptable(m.part, cs.part_weak_rotation, cs.part_weak_translation, m.T_scan_part, &why)) {
     m.reason = pname + " registration " + why;

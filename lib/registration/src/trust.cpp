@@ -65,6 +65,22 @@ PlaneSystem plane_system(const PclCloud& scan, const Tree& ref_tree, const Pose&
   return sys;
 }
 
+namespace {
+// The weak Hessian direction (ratio below declared_weak_ratio) that is a rotation about / a
+// translation along a declared weak axis, or -1.
+int declared_weak(const Eigen::SelfAdjointEigenSolver<Matrix6d>& es, const Pose& T, const TrustSettings& t) {
+  for (int k = 0; k < 6 && es.eigenvalues()[k] < t.declared_weak_ratio * es.eigenvalues()[5]; ++k) {
+    const Vector6d d = es.eigenvectors().col(k);
+    const bool rot = d.head<3>().norm() > d.tail<3>().norm();
+    const auto& axis = rot ? t.weak_rotation : t.weak_translation;
+    if (!axis) continue;
+    const Eigen::Vector3d dir = (rot ? d.head<3>() : d.tail<3>()).normalized();
+    if (std::abs(dir.dot(T.rotation() * axis->normalized())) > std::cos(10 * M_PI / 180)) return k;
+  }
+  return -1;
+}
+}  // namespace
+
 void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const TrustSettings& t,
             double voxel, RegistrationResult& r) {
   // One pass over the scan gives both the fit statistics and the normal equations.
@@ -108,6 +124,16 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
     why << "unobservable " << (rot ? "rotation about" : "translation along") << " [" << axis.x()
         << ", " << axis.y() << ", " << axis.z() << "] (scan frame)";
     if (weak > 1) why << " and " << weak - 1 << " more direction(s)";
+  } else if (const int k = declared_weak(es, r.T_scan_ref, t); k >= 0) {
+    r.status = Status::Ambiguous;
+    r.weakest_direction = es.eigenvectors().col(k);
+    r.unobservable = 1;
+    const Vector6d& d = r.weakest_direction;
+    const bool rot = d.head<3>().norm() > d.tail<3>().norm();
+    const Eigen::Vector3d axis = (rot ? d.head<3>() : d.tail<3>()).normalized();
+    why << "weakly observable " << (rot ? "rotation about" : "translation along") << " [" << axis.x() << ", "
+        << axis.y() << ", " << axis.z() << "] (scan frame; declared weak, Hessian ratio "
+        << es.eigenvalues()[k] / es.eigenvalues()[5] << " below " << t.declared_weak_ratio << ")";
   } else {
     r.status = Status::Ok;
   }
