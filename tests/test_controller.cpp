@@ -220,14 +220,22 @@ TEST(Controller, RaisedScanSeesAPartAboveTheMeasuringRange) {
   EXPECT_GE(points_on_part(raised, seen_at(c, su.q_scan_raised, su.T_world_sensor_raised, part)), 30);
 }
 
+namespace {
+// A measured target and the part's goal `above_mm` above it, pointing down (-z) into it.
+Pose goal_above(controller::Measurement& m, double above_mm) {
+  m.T_scan_target = pose_from_tq({450, 100, 250}, Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ())));
+  Pose goal = Pose::Identity();
+  goal.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  goal.translation() = Eigen::Vector3d(0, 0, above_mm);
+  return goal;
+}
+}  // namespace
+
 // The correction puts the part on its goal relative to the measured target; along the part's
 // own axis only where that is measured and asked for. Tolerance 1e-9 mm (pure algebra).
 TEST(Controller, CorrectsAlongThePartsAxisOnlyWhereMeasured) {
   controller::Measurement m;
-  m.T_scan_target = pose_from_tq({450, 100, 250}, Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ())));
-  Pose goal = Pose::Identity();  // the part 2 mm above the target, pointing down (-z)
-  goal.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  goal.translation() = Eigen::Vector3d(0, 0, 2);
+  const Pose goal = goal_above(m, 2.0);
   const Pose goal_scan = m.T_scan_target * goal;
   const Eigen::Vector3d axis = goal_scan.linear().col(2), side = goal_scan.linear().col(0);
   m.T_scan_part = goal_scan;
@@ -243,12 +251,10 @@ TEST(Controller, CorrectsAlongThePartsAxisOnlyWhereMeasured) {
   EXPECT_NEAR(controller::compute_correction(m, goal, false).axial_mm, 0.0, 1e-9);
 }
 
+// The trust region caps the move along the insertion axis and leaves the rest. Tolerance 1e-9 mm.
 TEST(Controller, AxialTrustRegionLimitsOnlyTheMoveAlongTheAxis) {
   controller::Measurement m;
-  m.T_scan_target = pose_from_tq({450, 100, 250}, Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ())));
-  Pose goal = Pose::Identity();  // the part 0.8 mm above the target, pointing down (-z)
-  goal.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  goal.translation() = Eigen::Vector3d(0, 0, 0.8);
+  const Pose goal = goal_above(m, 0.8);  // the first waypoint's height
   const Pose goal_scan = m.T_scan_target * goal;
   const Eigen::Vector3d axis = goal_scan.linear().col(2), side = goal_scan.linear().col(1);
   for (const double along : {3.0, -0.5, 0.1}) {  // measured short, too far, and within the gate
