@@ -163,9 +163,10 @@ Command add_register(CLI::App& root) {
       ->check(CLI::IsMember({"auto", "on", "off"}))->capture_default_str();
   app->add_option("--thin-axis-sigma", o->thin_axis_sigma, "thin parts: how good the prior's axis is (deg, 1 sigma; "
                                                            "0 = fit the axis freely)")->check(CLI::NonNegativeNumber)->capture_default_str();
-  app->add_option("--weak-rotation", o->weak_rotation, "a rotation the task expects the scan not to pin (axis of the "
-                                                     "reference frame, e.g. a needle's spin about its shaft): ambiguous "
-                                                     "about it unless clearly observable")->check(CLI::IsMember({"x", "y", "z"}));
+  app->add_option("--weak-rotation", o->weak_rotation,
+                  "a rotation the task expects the scan not to pin (axis of the reference frame, e.g. a "
+                  "needle's spin about its shaft): ambiguous about it unless clearly observable")
+      ->check(CLI::IsMember({"x", "y", "z"}));
   app->add_option("--weak-translation", o->weak_translation, "likewise a translation (e.g. a plug's slide along "
                                                            "itself)")->check(CLI::IsMember({"x", "y", "z"}));
   app->add_flag("--json", o->json, "machine-readable result on stdout");

@@ -141,7 +141,8 @@ std::vector<io::Json> run_trial(const Benchmark& b, const PreparedScene& p, cons
                      {"r_err_full_deg", full.r_deg}, {"mssd_um", e.mssd_mm * 1e3},
                      {"fitness_mm2", res.fitness_mm2}, {"rmse_um", res.inlier_rmse_mm * 1e3},
                      {"overlap", res.overlap}, {"attempts", res.attempts}, {"voxel_mm", res.voxel_mm},
-                     {"hessian_ratio", res.hessian_eigenvalues[5] > 0 ? res.hessian_eigenvalues[0] / res.hessian_eigenvalues[5] : 0.0},
+                     {"hessian_ratio", res.hessian_eigenvalues[5] > 0
+                                           ? res.hessian_eigenvalues[0] / res.hessian_eigenvalues[5] : 0.0},
                      {"scan_points", in.scan_points}, {"visible_points", visible},
                      {"T_scan_ref", io::pose_to_json(res.T_scan_ref).at("matrix")},
                      {"timing", timing}});

@@ -87,7 +87,8 @@ Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const 
     if (!ok) log.push_back("refining " + tname + " from its last measurement: " + why + "; full registration");
   }
   if (!ok) {
-    m.target = register_one(scan, target_ref, tracked_target ? *tracked_target : target_prior, tname, tw_rot, tw_trans, s, seed);
+    m.target = register_one(scan, target_ref, tracked_target ? *tracked_target : target_prior, tname, tw_rot,
+                            tw_trans, s, seed);
     ok = check_target();
   }
   if (!ok) {

@@ -135,7 +135,8 @@ Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy
         corr = compute_correction(m, way, orient && o.rounds == 0, outside);
         if (gated && std::abs(corr.axial_mm) > s.axial_gate_mm && k + 1 < s.max_scans) {
           m.ok = false;  // a thread end cut short or lengthened by the needle under it: look again
-          o.log.push_back("implausible: " + fmt(corr.axial_mm * 1e3) + " um along the axis after a verified move; re-scan");
+          o.log.push_back("implausible: " + fmt(corr.axial_mm * 1e3) +
+                          " um along the axis after a verified move; re-scan");
         } else {
           tracked_part = m.T_scan_target.inverse() * m.T_scan_part;
         }
