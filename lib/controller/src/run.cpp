@@ -154,7 +154,8 @@ Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy
       const bool settled = corr.lateral_mm < s.verify_mm && std::abs(corr.axial_mm) < s.verify_axial_mm &&
                            (!orient || corr.angle_deg < cs.clearance.angle_deg / 2);
       if (settled && (round > 0 || w > 0)) break;
-      // The last round's reading is still the best estimate: apply it, unverified like a stage move.
+      // Correct, in the last round too: its reading is still the best estimate (applied
+      // unverified, like a stage move). Along the axis at most the trust region once gated.
       const Correction step = gated ? limit_axial(corr, s.axial_gate_mm) : corr;
       const planning::Trajectory tr = plan(c, c.nominal.fk(q), step.delta, s);
       if (!tr.ok) return refuse(tr.reason);
