@@ -87,9 +87,9 @@ TEST(ThinPart, DetectsTheThreadTipFromAPriorMillimetresOff) {
   EXPECT_EQ(seg.T_scan_ref.matrix(), r.T_scan_ref.matrix());
 }
 
-// Two stray points on the cylinder's band 0.2 and 0.3 mm past the tip (as mixed pixels between
+// Two stray points on the cylinder's band 0.1 and 0.2 mm past the tip (as mixed pixels between
 // the thread's end and the needle under it leave them) do not move the tip: tolerance 40 um
-// along the axis, as above (taken as the end, they would put it 0.3 mm too far).
+// along the axis, as above (taken as the end, they would put it 0.2 mm too far).
 TEST(ThinPart, StrayPointsPastTheTipAreNotTheTip) {
   const auto& t = thread_scene();
   PointCloud scan = t.scan.cloud;

@@ -68,7 +68,7 @@ Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const 
   const std::string &tw_rot = cs.target_weak_rotation, &tw_trans = cs.target_weak_translation;
   auto check_target = [&] {
     m.T_scan_target = m.target.T_scan_ref;
-    if (!acceptable(m.target, cs.target_weak_rotation, cs.target_weak_translation, m.T_scan_target, &why)) return false;
+    if (!acceptable(m.target, tw_rot, tw_trans, m.T_scan_target, &why)) return false;
     const std::string& w = cs.target_weak_rotation;
     if (m.target.status == registration::Status::Ambiguous && !w.empty()) {
       const Eigen::Vector3d e = Eigen::Vector3d::Unit(w[0] - 'x');

@@ -66,16 +66,35 @@ PlaneSystem plane_system(const PclCloud& scan, const Tree& ref_tree, const Pose&
 }
 
 namespace {
+// A (scaled) Hessian direction [rotation; translation] read as the DoF it mostly is.
+struct Dof {
+  bool rotation;
+  Eigen::Vector3d axis;  // unit, scan frame
+};
+Dof dof_of(const Vector6d& d) {
+  const bool rot = d.head<3>().norm() > d.tail<3>().norm();
+  return {rot, (rot ? d.head<3>() : d.tail<3>()).normalized()};
+}
+bool along(const Dof& dof, const Eigen::Vector3d& axis, double tol_deg) {
+  return std::abs(dof.axis.dot(axis.normalized())) > std::cos(tol_deg * M_PI / 180);
+}
+std::ostream& operator<<(std::ostream& o, const Dof& d) {
+  return o << (d.rotation ? "rotation about" : "translation along") << " [" << d.axis.x() << ", " << d.axis.y()
+           << ", " << d.axis.z() << "]";
+}
+bool weakest_along(const RegistrationResult& r, bool rotation, const Eigen::Vector3d& axis, double tol_deg) {
+  if (r.status != Status::Ambiguous) return false;
+  const Dof dof = dof_of(r.weakest_direction);
+  return dof.rotation == rotation && along(dof, axis, tol_deg);
+}
+
 // The weak Hessian direction (ratio below declared_weak_ratio) that is a rotation about / a
 // translation along a declared weak axis, or -1.
 int declared_weak(const Eigen::SelfAdjointEigenSolver<Matrix6d>& es, const Pose& T, const TrustSettings& t) {
   for (int k = 0; k < 6 && es.eigenvalues()[k] < t.declared_weak_ratio * es.eigenvalues()[5]; ++k) {
-    const Vector6d d = es.eigenvectors().col(k);
-    const bool rot = d.head<3>().norm() > d.tail<3>().norm();
-    const auto& axis = rot ? t.weak_rotation : t.weak_translation;
-    if (!axis) continue;
-    const Eigen::Vector3d dir = (rot ? d.head<3>() : d.tail<3>()).normalized();
-    if (std::abs(dir.dot(T.rotation() * axis->normalized())) > std::cos(10 * M_PI / 180)) return k;
+    const Dof dof = dof_of(es.eigenvectors().col(k));
+    const auto& axis = dof.rotation ? t.weak_rotation : t.weak_translation;
+    if (axis && along(dof, T.rotation() * *axis, 10)) return k;
   }
   return -1;
 }
@@ -115,44 +134,22 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
     why << "inlier RMSE " << f.rmse_mm * 1e3 << " um above " << t.max_rmse_vox * voxel * 1e3 << " um";
   } else if (es.eigenvalues()[0] < t.ambiguity_ratio * es.eigenvalues()[5]) {
     r.status = Status::Ambiguous;
-    const Vector6d& d = r.weakest_direction;
-    const bool rot = d.head<3>().norm() > d.tail<3>().norm();
-    const Eigen::Vector3d axis = (rot ? d.head<3>() : d.tail<3>()).normalized();
     int weak = 0;
     for (int k = 0; k < 6; ++k) weak += es.eigenvalues()[k] < t.ambiguity_ratio * es.eigenvalues()[5];
     r.unobservable = weak;
-    why << "unobservable " << (rot ? "rotation about" : "translation along") << " [" << axis.x()
-        << ", " << axis.y() << ", " << axis.z() << "] (scan frame)";
+    why << "unobservable " << dof_of(r.weakest_direction) << " (scan frame)";
     if (weak > 1) why << " and " << weak - 1 << " more direction(s)";
   } else if (const int k = declared_weak(es, r.T_scan_ref, t); k >= 0) {
     r.status = Status::Ambiguous;
     r.weakest_direction = es.eigenvectors().col(k);
     r.unobservable = 1;
-    const Vector6d& d = r.weakest_direction;
-    const bool rot = d.head<3>().norm() > d.tail<3>().norm();
-    const Eigen::Vector3d axis = (rot ? d.head<3>() : d.tail<3>()).normalized();
-    why << "weakly observable " << (rot ? "rotation about" : "translation along") << " [" << axis.x() << ", "
-        << axis.y() << ", " << axis.z() << "] (scan frame; declared weak, Hessian ratio "
+    why << "weakly observable " << dof_of(r.weakest_direction) << " (scan frame; declared weak, Hessian ratio "
         << es.eigenvalues()[k] / es.eigenvalues()[5] << " below " << t.declared_weak_ratio << ")";
   } else {
     r.status = Status::Ok;
   }
   r.reason = why.str();
 }
-
-}  // namespace laserfit::registration
-
-namespace laserfit::registration {
-namespace {
-bool weakest_along(const RegistrationResult& r, bool rotation, const Eigen::Vector3d& axis, double tol_deg) {
-  if (r.status != Status::Ambiguous) return false;
-  const Vector6d& d = r.weakest_direction;
-  const bool rot = d.head<3>().norm() > d.tail<3>().norm();
-  if (rot != rotation) return false;
-  const Eigen::Vector3d dir = (rot ? d.head<3>() : d.tail<3>()).normalized();
-  return std::abs(dir.dot(axis.normalized())) > std::cos(tol_deg * M_PI / 180);
-}
-}  // namespace
 
 bool weakest_is_rotation_about(const RegistrationResult& r, const Eigen::Vector3d& axis, double tol_deg) {
   return weakest_along(r, true, axis, tol_deg);
