@@ -5,9 +5,11 @@
 
 #include "laserfit/cad/import.hpp"
 #include "laserfit/core/error.hpp"
+#include "laserfit/io/cloud_io.hpp"
 #include "laserfit/registration/preprocess.hpp"
 #include "laserfit/registration/registration.hpp"
 #include "laserfit/sampling/sampling.hpp"
+#include "laserfit/scan/reference.hpp"
 #include "laserfit/scan/scanner.hpp"
 #include "test_util.hpp"
 
@@ -313,4 +315,48 @@ TEST(Registration, APartCutInTwoByAShadowIsPinnedByBothPieces) {
   const Eigen::Vector3d dt = r.T_scan_ref.translation() - T.translation();
   EXPECT_LT(std::abs(dt.dot(axis)) * 1e3, 10.0);
   EXPECT_LT((dt - dt.dot(axis) * axis).norm() * 1e3, 10.0);
+}
+
+TEST(Registration, ANeedleSlidAlongItsShaftIsFoundAgain) {
+  // The controller campaign's trial 328, scan 1 (tests/data/needle_slid/README.md): the thread's
+  // shadow cuts the needle in two and the scan ends at the sensor's last column, so the reference
+  // slid 1.3 mm along the shaft puts its eye where the scan has no points, and the scan's eye (a
+  // hole: no points) over plain shaft. Nothing penalises that: the registration came back
+  // ambiguous along the shaft on every scan (at the translation used as the prior here; its
+  // rotation is the truth's, rounded) and the trial was refused. Refined from there on the scan points near it (as register_segmented's regrowing
+  // does), the slide search must find the pose again.
+  // Tolerance: 10 um along and across the shaft against the simulator's ground truth (its
+  // mid-sweep pose; the profiles' motion noise is ~1 um), 0.1 deg for the shaft's direction.
+  const PointCloud scan = io::read_cloud(test::data("needle_slid/scan_328.pcd"));
+  const scan::ScanScene scene = scan::load_scene(std::string(LASERFIT_SOURCE_DIR) + "/datasets/scenes/needle_thread.yaml");
+  const auto& needle = scene.objects[0];
+  ASSERT_EQ(needle.name, "needle");
+  const PointCloud ref = scan::view_reference(needle.mesh, needle.T_base_object, scene.settings, 60000, 11);
+  const Pose gt = pose_from_tq({474.8897926112, 79.2182401681, 252.6259398085},
+                               Eigen::Quaterniond(0.996204785565, -0.007379645604, 0.001152788035, 0.086719300778));
+  const Pose slid_pose = pose_from_tq({473.5820477542602, 78.98967682463275, 252.63004349875177},
+                                      Eigen::Quaterniond(0.9962, -0.0074, 0.0012, 0.0867).normalized());
+  reg::RegistrationSettings rs;  // as the controller sets it (thresholds_needle.yaml, weak spin x)
+  rs.pre.voxel_mm = 0.03, rs.refine.max_correspondence_vox = 2, rs.trust.max_rmse_vox = 0.5;
+  rs.trust.weak_rotation = Eigen::Vector3d::UnitX();
+  rs.pre.use_viewpoint = true, rs.pre.viewpoint = Eigen::Vector3d(478.9268812, 57.58820044, 339.9298223);
+  rs.prior = slid_pose, rs.skip_coarse = true;
+  const PointCloud near = reg::crop_near(scan, ref, slid_pose, 1.0);
+  const Eigen::Vector3d axis = gt.rotation().col(0);
+
+  reg::RegistrationSettings off = rs;
+  off.trust.slide_range_mm = 0;
+  const auto slid = reg::register_cloud(near, ref, off);
+  ASSERT_EQ(slid.status, reg::Status::Ambiguous) << slid.reason;
+  EXPECT_TRUE(reg::weakest_is_translation_along(slid, axis)) << slid.reason;
+  EXPECT_GT(std::abs((slid.T_scan_ref.translation() - gt.translation()).dot(axis)), 0.5);
+
+  const auto r = reg::register_cloud(near, ref, rs);
+  ASSERT_NE(r.status, reg::Status::Failed) << r.reason;
+  EXPECT_TRUE(reg::weakest_is_rotation_about(r, axis)) << r.reason;  // the spin only
+  EXPECT_EQ(r.unobservable, 1) << r.reason;
+  const Eigen::Vector3d dt = r.T_scan_ref.translation() - gt.translation();
+  EXPECT_LT(std::abs(dt.dot(axis)) * 1e3, 10.0);
+  EXPECT_LT((dt - dt.dot(axis) * axis).norm() * 1e3, 10.0);
+  EXPECT_LT(std::acos(std::min(1.0, r.T_scan_ref.rotation().col(0).dot(axis))) * 180 / M_PI, 0.1);
 }

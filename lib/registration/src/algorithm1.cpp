@@ -8,6 +8,7 @@
 
 #include "laserfit/core/error.hpp"
 #include "laserfit/registration/preprocess.hpp"
+#include "slide.hpp"
 #include "stages.hpp"
 
 namespace laserfit::registration {
@@ -204,6 +205,25 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
       assess(*scan, *ref_tree, matcher, s.trust, voxel, r);
     }
   }
+  if (r.status == Status::Ambiguous) {
+    t = Clock::now();
+    const RefineInput in{ref, scan, tree, ref_tree, best.T, voxel, s.refine, s.pre.use_viewpoint};
+    if (const auto sl = slide_search(in, matcher, s.trust, r)) {
+      const Pose& T = sl->result.T_scan_ref;
+      r.log.push_back("slide search: pinned by a refinement started " + fmt(sl->offset_mm) +
+                      " mm along the flat translation: fitness " + fmt(sl->result.fitness_mm2 / (voxel * voxel)) +
+                      " voxel^2, overlap " + fmt(sl->result.overlap) + ", t = [" + fmt(T.translation().x()) + ", " +
+                      fmt(T.translation().y()) + ", " + fmt(T.translation().z()) + "]");
+      r.iterations += sl->iterations;
+      best = Candidate{T, evaluate(*scan, *ref_tree, T, matcher)};
+      // Converged attempts too: the checks below count them as confirmations or as rivals (two
+      // different pinned slides are a repeated structure, not a pose).
+      for (const auto& P : sl->pinned) good.push_back(Candidate{P, evaluate(*scan, *ref_tree, P, matcher)});
+      r.T_scan_ref = best.T;
+      assess(*scan, *ref_tree, matcher, s.trust, voxel, r);
+    }
+    r.timings_s["slide"] = since(t);
+  }
   if (r.status == Status::Ok && refine != refine_ceres) {
     // A pose is only trusted where the robust point-to-plane fit has its minimum: a PCL ICP
     // that stopped on a plateau (sliding along a face) is caught here, not reported as ok.
@@ -308,6 +328,10 @@ RegistrationResult register_segmented(const PointCloud& scan_in, const PointClou
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return dist[a] < dist[b]; });
   }
   const double t_segment = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // A part's slide search (slide.cpp) is left to the regrown registration below: it sees every
+  // piece of the part, the cluster may have lost what pins it.
+  RegistrationSettings each = s;
+  each.trust.slide_range_mm = 0;
   RegistrationResult best;
   int best_i = -1;
   auto rank = [](const RegistrationResult& r) { return r.status == Status::Ok ? 0 : r.status == Status::Ambiguous ? 1 : 2; };
@@ -316,7 +340,7 @@ RegistrationResult register_segmented(const PointCloud& scan_in, const PointClou
     if (parts[i].points.size() < 10) continue;
     RegistrationResult r;
     try {
-      r = register_cloud(parts[i], ref, s);
+      r = register_cloud(parts[i], ref, each);
     } catch (const Error& e) {  // a candidate too small to register is a failed candidate
       r.status = Status::Failed;
       r.reason = std::string("part ") + std::to_string(i) + ": " + e.what();

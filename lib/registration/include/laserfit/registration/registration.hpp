@@ -65,6 +65,11 @@ struct TrustSettings {
                                         // than this (RMS along their normals) between them
   double polish_mm = 0.02;          // a robust point-to-plane polish of the final pose must move
   double polish_deg = 0.2;          // it less than this, else failed (non-Ceres refiners)
+  // Slide search (slide.cpp): a pose flat along a translation not declared weak is refined again
+  // from poses slid along it by +-step, +-2 step ... up to the range, and a re-refinement the data
+  // pin is kept (mm; range 0 = off). A needle's eye is 1 mm long: steps well under it.
+  double slide_step_mm = 0.25;
+  double slide_range_mm = 2.0;
 };
 
 struct RegistrationSettings {

@@ -1,0 +1,80 @@
+// Why: a part whose only feature along its length is a hole (a needle's eye) is matched from the
+// scan side only (trust.cpp), and a hole is an absence of scan points. With the reference slid so
+// far that its eye lies where the scan has no data (beyond the sensor's last column, or in a
+// thread's shadow), the scan's eye faces plain shaft and nothing penalises it: the fit is flat
+// along the shaft and the refinement stops anywhere on the plateau (controller trial 328, 1.3 mm
+// off). A refinement started near the true slide falls into the eye's edges and is pinned; so
+// the plateau is searched by restarts, not by a smarter local step.
+#include "slide.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+
+namespace laserfit::registration {
+namespace {
+int flat_directions(const RegistrationResult& r, const TrustSettings& t) {
+  int n = 0;
+  for (int k = 0; k < 6; ++k)
+    n += r.hessian_eigenvalues[k] < t.ambiguity_ratio * r.hessian_eigenvalues[5];
+  return n;
+}
+}  // namespace
+
+std::optional<SlideOutcome> slide_search(const RefineInput& base, const Matcher& m,
+                                         const TrustSettings& t, const RegistrationResult& slid) {
+  if (slid.status != Status::Ambiguous || t.slide_step_mm <= 0 ||
+      t.slide_range_mm < t.slide_step_mm)
+    return std::nullopt;
+  // Only a flat translation (the Hessian below the ambiguity ratio) the task did not declare
+  // harmless: a plug's slide along itself is expected and reported, not searched.
+  const Vector6d& d = slid.weakest_direction;
+  const Eigen::Vector3d axis = d.tail<3>().normalized();
+  const int flat = flat_directions(slid, t);
+  if (d.tail<3>().norm() <= d.head<3>().norm() || flat == 0) return std::nullopt;
+  if (t.weak_translation &&
+      std::abs(axis.dot(slid.T_scan_ref.rotation() * *t.weak_translation)) > std::cos(M_PI / 18))
+    return std::nullopt;
+
+  // Starts one step apart: one of them is within half a step of the pinned pose, so a gate of one
+  // step reaches it. A start on the plateau would only crawl along it (no gradient there), so the
+  // iterations are capped; a start that reaches the eye's edges converges in a few.
+  RefineSettings fast = base.s;
+  fast.initial_gate_mm = t.slide_step_mm, fast.max_iterations = std::min(fast.max_iterations, 15);
+  // The starts are independent: refined in parallel, stored by index, chosen in order (the same
+  // pose whatever the thread count).
+  const int steps = int(std::floor(t.slide_range_mm / t.slide_step_mm + 1e-9));
+  std::vector<double> offsets;
+  for (int k = 1; k <= steps; ++k)
+    offsets.push_back(k * t.slide_step_mm), offsets.push_back(-k * t.slide_step_mm);
+  std::vector<RegistrationResult> found(offsets.size());
+  std::vector<int> iterations(offsets.size(), 0);
+  tbb::parallel_for(size_t(0), offsets.size(), [&](size_t i) {
+    const Pose init = Eigen::Translation3d(offsets[i] * axis) * slid.T_scan_ref;
+    const RefineInput in{base.ref, base.scan,  base.scan_tree, base.ref_tree,
+                         init,     base.voxel, fast,           base.oriented};
+    const RefineOutput o = refine_ceres(in);
+    iterations[i] = o.iterations;
+    found[i].status = Status::Failed;
+    if (!o.T.matrix().allFinite()) return;
+    found[i].T_scan_ref = o.T;
+    assess(*base.scan, *base.ref_tree, m, t, base.voxel, found[i]);
+  });
+  std::optional<SlideOutcome> out;
+  std::vector<Pose> pinned;
+  int total = 0;
+  for (size_t i = 0; i < offsets.size(); ++i) {
+    const RegistrationResult& x = found[i];
+    total += iterations[i];
+    // Pinned: fewer flat directions than the slid pose, and as good a fit of as much of the
+    // scan (the rule for rival attempts in algorithm1.cpp), not a pose that explains less of it.
+    if (x.status == Status::Failed || flat_directions(x, t) >= flat) continue;
+    if (x.overlap < 0.98 * slid.overlap || x.fitness_mm2 > 1.5 * slid.fitness_mm2) continue;
+    pinned.push_back(x.T_scan_ref);
+    if (!out || x.fitness_mm2 < out->result.fitness_mm2) out = SlideOutcome{x, offsets[i], {}, 0};
+  }
+  if (out) out->pinned = std::move(pinned), out->iterations = total;
+  return out;
+}
+
+}  // namespace laserfit::registration
