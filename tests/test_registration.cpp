@@ -239,6 +239,11 @@ TEST(Registration, RefusesUnusableInput) {
   reg::RegistrationSettings bad;
   bad.refine.method = "magic";
   EXPECT_THROW(reg::register_cloud(ref, ref, bad), Error);
+  // A weak DoF's axis is named x, y or z; anything else is an error, not an out-of-range index.
+  EXPECT_EQ(*reg::named_axis("y"), Eigen::Vector3d::UnitY());
+  EXPECT_FALSE(reg::named_axis(""));
+  EXPECT_THROW(reg::named_axis("w"), Error);
+  EXPECT_THROW(reg::named_axis("xy"), Error);
 }
 
 TEST(Registration, MixedPixelsAreRemovedFromOrganizedScans) {

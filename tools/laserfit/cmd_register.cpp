@@ -86,8 +86,8 @@ int run(const Options& o) {
   s.max_attempts = o.attempts;
   s.seed = o.seed;
   s.thin.mode = o.thin, s.thin.axis_prior_deg = o.thin_axis_sigma;
-  if (!o.weak_rotation.empty()) s.trust.weak_rotation = Eigen::Vector3d::Unit(o.weak_rotation[0] - 'x');
-  if (!o.weak_translation.empty()) s.trust.weak_translation = Eigen::Vector3d::Unit(o.weak_translation[0] - 'x');
+  s.trust.weak_rotation = registration::named_axis(o.weak_rotation);
+  s.trust.weak_translation = registration::named_axis(o.weak_translation);
   if (!o.prior.empty()) s.prior = parse_pose(o.prior, "--prior"), s.skip_coarse = o.refine_only;
   if (!o.q0.empty()) {
     std::istringstream in(o.q0);

@@ -7,6 +7,7 @@
 #include "laserfit/bench/checksum.hpp"
 #include "laserfit/core/error.hpp"
 #include "laserfit/io/yaml_reader.hpp"
+#include "laserfit/registration/registration.hpp"
 
 namespace laserfit::bench {
 
@@ -68,7 +69,7 @@ Target read_target(const YamlReader& R, const YAML::Node& t, const std::string& 
     if (!t[key]) continue;
     const std::string a = R.str(t, key, "", where);
     if (a != "x" && a != "y" && a != "z") R.fail(where + "." + key, "must be x, y or z (object frame)");
-    (std::string(key) == "weak_rotation" ? tg.weak_rotation : tg.weak_translation) = Eigen::Vector3d::Unit(a[0] - 'x');
+    (std::string(key) == "weak_rotation" ? tg.weak_rotation : tg.weak_translation) = registration::named_axis(a);
   }
   if (tg.object.empty()) R.fail(where + ".object", "must name a scene object");
   return tg;

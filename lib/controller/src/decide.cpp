@@ -30,7 +30,7 @@ bool acceptable(const registration::RegistrationResult& r, const std::string& we
                 const Pose& T, std::string* why) {
   if (r.status == registration::Status::Ok) return true;
   if (r.status == registration::Status::Ambiguous && r.unobservable <= 2) {
-    auto axis = [&](const std::string& a) { return Eigen::Vector3d(T.linear().col(a[0] - 'x')); };
+    auto axis = [&](const std::string& a) { return Eigen::Vector3d(T.linear() * *registration::named_axis(a)); };
     if (!weak_rot.empty() && registration::weakest_is_rotation_about(r, axis(weak_rot))) return true;
     if (!weak_trans.empty() && registration::weakest_is_translation_along(r, axis(weak_trans))) return true;
   }

@@ -23,8 +23,8 @@ registration::RegistrationResult register_one(const PointCloud& scan, const Poin
   registration::RegistrationSettings rs;
   s.thresholds.apply(rs, object);
   // The cell's harmless DoFs are the ones the scan is expected not to pin.
-  if (!weak_rotation.empty()) rs.trust.weak_rotation = Eigen::Vector3d::Unit(weak_rotation[0] - 'x');
-  if (!weak_translation.empty()) rs.trust.weak_translation = Eigen::Vector3d::Unit(weak_translation[0] - 'x');
+  rs.trust.weak_rotation = registration::named_axis(weak_rotation);
+  rs.trust.weak_translation = registration::named_axis(weak_translation);
   rs.prior = prior;
   rs.skip_coarse = refine_only;
   rs.prior_radius_mm = s.prior_radius_mm;
@@ -71,7 +71,7 @@ Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const 
     if (!acceptable(m.target, tw_rot, tw_trans, m.T_scan_target, &why)) return false;
     const std::string& w = cs.target_weak_rotation;
     if (m.target.status == registration::Status::Ambiguous && !w.empty()) {
-      const Eigen::Vector3d e = Eigen::Vector3d::Unit(w[0] - 'x');
+      const Eigen::Vector3d e = *registration::named_axis(w);
       if (registration::weakest_is_rotation_about(m.target, m.T_scan_target.linear() * e))
         m.T_scan_target = with_prior_spin(m.T_scan_target, target_prior, e);
     }

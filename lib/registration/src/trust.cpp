@@ -4,6 +4,7 @@
 #include <Eigen/Eigenvalues>
 #include <sstream>
 
+#include "laserfit/core/error.hpp"
 #include "stages.hpp"
 
 namespace laserfit::registration {
@@ -149,6 +150,12 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
     r.status = Status::Ok;
   }
   r.reason = why.str();
+}
+
+std::optional<Eigen::Vector3d> named_axis(const std::string& name) {
+  if (name.empty()) return std::nullopt;
+  if (name != "x" && name != "y" && name != "z") throw Error("axis '" + name + "': must be x, y or z");
+  return Eigen::Vector3d::Unit(name[0] - 'x');
 }
 
 bool weakest_is_rotation_about(const RegistrationResult& r, const Eigen::Vector3d& axis, double tol_deg) {

@@ -123,6 +123,10 @@ std::vector<std::string> refiner_names();
 bool weakest_is_rotation_about(const RegistrationResult& r, const Eigen::Vector3d& axis, double tol_deg = 10);
 bool weakest_is_translation_along(const RegistrationResult& r, const Eigen::Vector3d& axis, double tol_deg = 10);
 
+// The unit vector of the reference-frame axis named "x", "y" or "z" (how cells, benchmarks and
+// the CLI name a weak DoF); nullopt for "" (none). Throws laserfit::Error on any other name.
+std::optional<Eigen::Vector3d> named_axis(const std::string& name);
+
 // Splits a scan into parts by Euclidean clustering of its downsampled points (gap larger than
 // `tolerance_mm`), largest first; each part is returned at full resolution (the scan points in
 // the cluster's bounding box grown by one voxel). Clusters under `min_points` are dropped.
