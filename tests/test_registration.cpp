@@ -328,8 +328,9 @@ TEST(Registration, ANeedleSlidAlongItsShaftIsFoundAgain) {
   // slid 1.3 mm along the shaft puts its eye where the scan has no points, and the scan's eye (a
   // hole: no points) over plain shaft. Nothing penalises that: the registration came back
   // ambiguous along the shaft on every scan (at the translation used as the prior here; its
-  // rotation is the truth's, rounded) and the trial was refused. Refined from there on the scan points near it (as register_segmented's regrowing
-  // does), the slide search must find the pose again.
+  // rotation is the truth's, rounded) and the trial was refused. Refined from there on the scan
+  // points near it (as register_segmented's regrowing does), the slide search must find the pose
+  // again.
   // Tolerance: 10 um along and across the shaft against the simulator's ground truth (its
   // mid-sweep pose; the profiles' motion noise is ~1 um), 0.1 deg for the shaft's direction.
   const PointCloud scan = io::read_cloud(test::data("needle_slid/scan_328.pcd"));
