@@ -26,6 +26,9 @@ struct Candidate {
   Pose T;
   Fit fit;
 };
+Candidate candidate(const RegistrationResult& r) {  // an assessed pose: its fit is known
+  return {r.T_scan_ref, Fit{r.fitness_mm2, r.inlier_rmse_mm, r.overlap, 0}};
+}
 
 std::string fmt(double v) {
   char b[32];
@@ -67,6 +70,7 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
                                   const RegistrationSettings& s) {
   if (finite_points(scan_in) < 10) throw Error("scan has no usable points (empty or all NaN)");
   if (finite_points(ref_in) < 10) throw Error("reference cloud has no usable points");
+  check_slide_settings(s.trust);
   if (uses_thin_detector(ref_in, s)) return detect_thin_part(scan_in, ref_in, s);
   const RefineFn refine = find_refiner(s.refine.method);
   RegistrationResult r;
@@ -189,12 +193,15 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
   assess(*scan, *ref_tree, matcher, s.trust, voxel, r);
   if (r.status == Status::Ambiguous && s.prior) {
     // Where the data cannot decide (a shaft slides along itself), the prior can: of the converged
-    // attempts, keep the one nearest to it rather than the one with a marginally lower fitness
-    // several millimetres along the unobservable direction.
+    // attempts that fit as well as the best, keep the one nearest to it rather than the one with a
+    // marginally lower fitness several millimetres along the unobservable direction. Only those:
+    // an attempt that stopped on the plateau with its eye off the scan's eye (4.5x the fitness,
+    // 90 % overlap) is not an equal the prior may choose (controller trial 167).
     const Candidate* nearest = &best;
     for (const auto& c : good)
-      if ((c.T.translation() - s.prior->translation()).norm() <
-          (nearest->T.translation() - s.prior->translation()).norm())
+      if (fits_as_well(c.fit.overlap, c.fit.fitness_mm2, best.fit.overlap, best.fit.fitness_mm2) &&
+          (c.T.translation() - s.prior->translation()).norm() <
+              (nearest->T.translation() - s.prior->translation()).norm())
         nearest = &c;
     if (nearest->T.matrix() != best.T.matrix()) {
       r.log.push_back("ambiguous: kept the converged attempt nearest to the prior, t = [" +
@@ -215,10 +222,10 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
                       " voxel^2, overlap " + fmt(sl->result.overlap) + ", t = [" + fmt(T.translation().x()) + ", " +
                       fmt(T.translation().y()) + ", " + fmt(T.translation().z()) + "]");
       r.iterations += sl->iterations;
-      best = Candidate{T, evaluate(*scan, *ref_tree, T, matcher)};
+      best = candidate(sl->result);
       // Converged attempts too: the checks below count them as confirmations or as rivals (two
       // different pinned slides are a repeated structure, not a pose).
-      for (const auto& P : sl->pinned) good.push_back(Candidate{P, evaluate(*scan, *ref_tree, P, matcher)});
+      for (const auto& p : sl->pinned) good.push_back(candidate(p));
       r.T_scan_ref = best.T;
       assess(*scan, *ref_tree, matcher, s.trust, voxel, r);
     }
@@ -239,12 +246,11 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
     }
   }
   if (r.status == Status::Ok) {
-    // Equally good refined poses that disagree: a symmetry or a repeated structure, not a pose.
+    // Equally good refined poses (fits_as_well) that disagree: a symmetry or a repeated
+    // structure, not a pose.
     for (const auto& c : good)
-      // "Equally good": nearly the same overlap and fitness. A pose that leaves a few percent of
-      // the scan unexplained (a hole matched to the wrong hole) is not a rival, just worse.
-      if (!agree(c.T, best.T, *ref, s.trust) && c.fit.overlap >= 0.98 * best.fit.overlap &&
-          c.fit.fitness_mm2 <= 1.5 * best.fit.fitness_mm2) {
+      if (!agree(c.T, best.T, *ref, s.trust) &&
+          fits_as_well(c.fit.overlap, c.fit.fitness_mm2, best.fit.overlap, best.fit.fitness_mm2)) {
         r.status = Status::Ambiguous;
         r.reason = "attempts converged to different poses with equal fit (symmetric part?)";
         break;
@@ -261,15 +267,21 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
   return r;
 }
 
-PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& T_scan_ref, double radius) {
+PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& T_scan_ref, double radius,
+                     const Eigen::Vector3d& slide) {
+  // Copies slid at most one radius apart: their balls overlap, so the crop is one swept tube.
+  const int n = radius > 0 ? int(std::ceil(slide.norm() / radius - 1e-9)) : 0;
   PclCloud::Ptr placed(new PclCloud);
   Eigen::AlignedBox3f box;
-  for (const auto& p : ref.points) {
-    if (!p.allFinite()) continue;
-    PointT q;
-    q.getVector3fMap() = (T_scan_ref * p.cast<double>()).cast<float>();
-    placed->push_back(q);
-    box.extend(q.getVector3fMap());
+  for (int k = -n; k <= n; ++k) {
+    const Pose T = Eigen::Translation3d((n ? double(k) / n : 0.0) * slide) * T_scan_ref;
+    for (const auto& p : ref.points) {
+      if (!p.allFinite()) continue;
+      PointT q;
+      q.getVector3fMap() = (T * p.cast<double>()).cast<float>();
+      placed->push_back(q);
+      box.extend(q.getVector3fMap());
+    }
   }
   PointCloud out;
   out.metadata = scan.metadata;
@@ -297,6 +309,7 @@ PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& 
 RegistrationResult register_segmented(const PointCloud& scan_in, const PointCloud& ref,
                                       const RegistrationSettings& s, int max_clusters, int* cluster) {
   if (uses_thin_detector(ref, s)) return detect_thin_part(scan_in, ref, s);  // segments itself
+  check_slide_settings(s.trust);
   const auto t0 = std::chrono::steady_clock::now();
   PointCloud scan = scan_in;
   remove_mixed_pixels(scan);
@@ -356,7 +369,12 @@ RegistrationResult register_segmented(const PointCloud& scan_in, const PointClou
   // shaft and comes back ambiguous. Near the pose found, every piece of the part is within reach:
   // refine once more on all scan points near the reference placed there.
   if (best.status != Status::Failed && best.unobservable > 0) {
-    PointCloud grown = crop_near(scan, ref, best.T_scan_ref, s.prior_radius_mm);
+    // A pose flat along a translation may be as far as the slide range from the pinned one: the
+    // crop reaches that far along it, or the slide search inside it misses what pins the part
+    // (the needle's head beyond its eye, 1.2 mm away with the prior 3 mm off).
+    const auto flat = flat_translation(best, s.trust);
+    const Eigen::Vector3d reach = flat ? Eigen::Vector3d(s.trust.slide_range_mm * *flat) : Eigen::Vector3d::Zero();
+    PointCloud grown = crop_near(scan, ref, best.T_scan_ref, s.prior_radius_mm, reach);
     if (grown.points.size() >= 10) {
       RegistrationSettings g = s;
       g.prior = best.T_scan_ref, g.skip_coarse = true;

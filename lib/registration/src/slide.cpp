@@ -10,31 +10,36 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <string>
+
+#include "laserfit/core/error.hpp"
 
 namespace laserfit::registration {
-namespace {
-int flat_directions(const RegistrationResult& r, const TrustSettings& t) {
-  int n = 0;
-  for (int k = 0; k < 6; ++k)
-    n += r.hessian_eigenvalues[k] < t.ambiguity_ratio * r.hessian_eigenvalues[5];
-  return n;
+
+std::optional<Eigen::Vector3d> flat_translation(const RegistrationResult& r, const TrustSettings& t) {
+  const Vector6d& d = r.weakest_direction;
+  if (r.status != Status::Ambiguous || r.flat == 0 || d.tail<3>().norm() <= d.head<3>().norm())
+    return std::nullopt;
+  const Eigen::Vector3d axis = d.tail<3>().normalized();
+  if (t.weak_translation &&
+      std::abs(axis.dot(r.T_scan_ref.rotation() * *t.weak_translation)) > std::cos(M_PI / 18))
+    return std::nullopt;
+  return axis;
 }
-}  // namespace
+
+void check_slide_settings(const TrustSettings& t) {
+  if (!(t.slide_step_mm >= 0) || !(t.slide_range_mm >= 0) ||
+      (t.slide_step_mm > 0 && t.slide_range_mm > 64 * t.slide_step_mm))
+    throw Error("slide search: step " + std::to_string(t.slide_step_mm) + " mm, range " +
+                std::to_string(t.slide_range_mm) + " mm: both must be >= 0, the range at most 64 steps");
+}
 
 std::optional<SlideOutcome> slide_search(const RefineInput& base, const Matcher& m,
                                          const TrustSettings& t, const RegistrationResult& slid) {
-  if (slid.status != Status::Ambiguous || t.slide_step_mm <= 0 ||
-      t.slide_range_mm < t.slide_step_mm)
-    return std::nullopt;
-  // Only a flat translation (the Hessian below the ambiguity ratio) the task did not declare
-  // harmless: a plug's slide along itself is expected and reported, not searched.
-  const Vector6d& d = slid.weakest_direction;
-  const Eigen::Vector3d axis = d.tail<3>().normalized();
-  const int flat = flat_directions(slid, t);
-  if (d.tail<3>().norm() <= d.head<3>().norm() || flat == 0) return std::nullopt;
-  if (t.weak_translation &&
-      std::abs(axis.dot(slid.T_scan_ref.rotation() * *t.weak_translation)) > std::cos(M_PI / 18))
-    return std::nullopt;
+  if (t.slide_step_mm <= 0 || t.slide_range_mm < t.slide_step_mm) return std::nullopt;
+  const auto flat_axis = flat_translation(slid, t);
+  if (!flat_axis) return std::nullopt;
+  const Eigen::Vector3d axis = *flat_axis;
 
   // Starts one step apart: one of them is within half a step of the pinned pose, so a gate of one
   // step reaches it. A start on the plateau would only crawl along it (no gradient there), so the
@@ -61,16 +66,16 @@ std::optional<SlideOutcome> slide_search(const RefineInput& base, const Matcher&
     assess(*base.scan, *base.ref_tree, m, t, base.voxel, found[i]);
   });
   std::optional<SlideOutcome> out;
-  std::vector<Pose> pinned;
+  std::vector<RegistrationResult> pinned;
   int total = 0;
   for (size_t i = 0; i < offsets.size(); ++i) {
     const RegistrationResult& x = found[i];
     total += iterations[i];
     // Pinned: fewer flat directions than the slid pose, and as good a fit of as much of the
-    // scan (the rule for rival attempts in algorithm1.cpp), not a pose that explains less of it.
-    if (x.status == Status::Failed || flat_directions(x, t) >= flat) continue;
-    if (x.overlap < 0.98 * slid.overlap || x.fitness_mm2 > 1.5 * slid.fitness_mm2) continue;
-    pinned.push_back(x.T_scan_ref);
+    // scan, not a pose that explains less of it.
+    if (x.status == Status::Failed || x.flat >= slid.flat) continue;
+    if (!fits_as_well(x.overlap, x.fitness_mm2, slid.overlap, slid.fitness_mm2)) continue;
+    pinned.push_back(x);
     if (!out || x.fitness_mm2 < out->result.fitness_mm2) out = SlideOutcome{x, offsets[i], {}, 0};
   }
   if (out) out->pinned = std::move(pinned), out->iterations = total;

@@ -80,6 +80,13 @@ struct Fit {
   size_t inliers = 0;
 };
 Fit evaluate(const PclCloud& scan, const Tree& ref_tree, const Pose& T_scan_ref, const Matcher& m);
+// "As good a fit" as another pose: at least 98 % of its overlap and at most 1.5x its fitness. A
+// pose that leaves a few percent of the scan unexplained (a hole matched to the wrong hole, a
+// needle slid off its eye) is worse, not an equal. The one rule for rivals, for choosing by the
+// prior among attempts, and for pinned slides.
+inline bool fits_as_well(double overlap, double fitness_mm2, double than_overlap, double than_fitness_mm2) {
+  return overlap >= 0.98 * than_overlap && fitness_mm2 <= 1.5 * than_fitness_mm2;
+}
 // The point-to-plane normal equations at pose T (scaled Hessian H, residual sum, RMS radius L).
 struct PlaneSystem {
   Matrix6d H = Matrix6d::Zero();

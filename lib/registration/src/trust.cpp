@@ -117,6 +117,8 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
   Eigen::SelfAdjointEigenSolver<Matrix6d> es(H);
   r.hessian_eigenvalues = es.eigenvalues() / std::max(1.0, double(n));
   r.weakest_direction = es.eigenvectors().col(0);
+  r.flat = 0, r.unobservable = 0;  // r may have been assessed at another pose before
+  for (int k = 0; k < 6; ++k) r.flat += es.eigenvalues()[k] < t.ambiguity_ratio * es.eigenvalues()[5];
   const double sigma2 = n > 6 ? res2 / (n - 6) : 0.0;
   // Covariance in [rx ry rz (rad, about the reference centroid), tx ty tz (mm)]: undo the scaling.
   Vector6d inv = es.eigenvalues();
@@ -135,11 +137,9 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
     why << "inlier RMSE " << f.rmse_mm * 1e3 << " um above " << t.max_rmse_vox * voxel * 1e3 << " um";
   } else if (es.eigenvalues()[0] < t.ambiguity_ratio * es.eigenvalues()[5]) {
     r.status = Status::Ambiguous;
-    int weak = 0;
-    for (int k = 0; k < 6; ++k) weak += es.eigenvalues()[k] < t.ambiguity_ratio * es.eigenvalues()[5];
-    r.unobservable = weak;
+    r.unobservable = r.flat;
     why << "unobservable " << dof_of(r.weakest_direction) << " (scan frame)";
-    if (weak > 1) why << " and " << weak - 1 << " more direction(s)";
+    if (r.flat > 1) why << " and " << r.flat - 1 << " more direction(s)";
   } else if (const int k = declared_weak(es, r.T_scan_ref, t); k >= 0) {
     r.status = Status::Ambiguous;
     r.weakest_direction = es.eigenvectors().col(k);

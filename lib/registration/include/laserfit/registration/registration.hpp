@@ -100,12 +100,13 @@ struct RegistrationResult {
   std::string reason;               // why ambiguous / failed
   double fitness_mm2 = 0;           // PCL-style ICP fitness: mean squared NN distance (inliers)
   double inlier_rmse_mm = 0;
-  double overlap = 0;               // fraction of reference points with a scan point within gate
+  double overlap = 0;               // fraction of scan points with a reference point within gate
   int attempts = 0, iterations = 0;  // iterations: ceres and ndt only (PCL ICP does not say)
   Matrix6d covariance = Matrix6d::Zero();  // [rx ry rz (rad), tx ty tz (mm)], scan frame
   Vector6d hessian_eigenvalues = Vector6d::Zero();  // scaled, ascending
   Vector6d weakest_direction = Vector6d::Zero();  // [r (axis, scaled by the part's size) ; t]
-  int unobservable = 0;             // directions below the ambiguity ratio (ambiguous: >= 1)
+  int unobservable = 0;             // ambiguous: the directions it names (>= 1; a declared-weak one counts)
+  int flat = 0;                     // Hessian directions below ambiguity_ratio (declared weak or not)
   double voxel_mm = 0;
   std::map<std::string, double> timings_s;  // per stage
   std::vector<std::string> log;             // one line per attempt and decision
@@ -133,8 +134,10 @@ std::optional<Eigen::Vector3d> named_axis(const std::string& name);
 std::vector<PointCloud> segment_clusters(const PointCloud& scan, double voxel_mm, double tolerance_mm,
                                          size_t min_points = 50);
 
-// The scan points within `radius_mm` of `ref` placed at `T_scan_ref` (unorganized).
-PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& T_scan_ref, double radius_mm);
+// The scan points within `radius_mm` of `ref` placed at `T_scan_ref` (unorganized), or of the
+// reference slid from there by up to +-`slide_mm` (a translation, scan frame, mm).
+PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& T_scan_ref, double radius_mm,
+                     const Eigen::Vector3d& slide_mm = Eigen::Vector3d::Zero());
 
 // Registers `ref` against up to `max_clusters` parts of the scan — with a prior, first the points
 // near the reference placed there (crop_near), then the clusters nearest it; else the largest
