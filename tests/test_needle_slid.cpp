@@ -8,6 +8,7 @@
 // spin about the shaft is declared weak and not checked.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "laserfit/io/cloud_io.hpp"
@@ -86,4 +87,26 @@ TEST(NeedleSlid, APriorThreeMillimetresAlongTheShaftIsOvercome) {
     rs.q0 = Eigen::Quaterniond(t.gt.rotation());
     t.expect_found(reg::register_segmented(t.scan, t.ref, rs, 2));
   }
+}
+
+TEST(NeedleSlid, TheRegrownCropSpansTheSlide) {
+  // A 1 mm rod of reference points on x in [0, 1], scan points every 0.01 mm on x in [-10, 10]:
+  // the reference slid anywhere from -3 to +2 mm along x, grown by the 0.5 mm radius, keeps
+  // exactly the scan points with x in [-3.5, 3.5] (tolerance: one point's spacing at each end).
+  PointCloud ref, scan;
+  for (int i = 0; i <= 100; ++i) ref.points.emplace_back(0.01f * i, 0.f, 0.f);
+  for (int i = -1000; i <= 1000; ++i) scan.points.emplace_back(0.01f * i, 0.f, 0.f);
+  ref.width = int(ref.points.size()), scan.width = int(scan.points.size());
+  const Pose I = Pose::Identity();
+  auto span = [](const PointCloud& c) {
+    float lo = 1e9f, hi = -1e9f;
+    for (const auto& p : c.points) lo = std::min(lo, p.x()), hi = std::max(hi, p.x());
+    return std::make_pair(lo, hi);
+  };
+  const auto [lo, hi] = span(reg::crop_near(scan, ref, I, 0.5, {-3, 0, 0}, {2, 0, 0}));
+  EXPECT_NEAR(lo, -3.5, 0.011);
+  EXPECT_NEAR(hi, 3.5, 0.011);
+  const auto [lo0, hi0] = span(reg::crop_near(scan, ref, I, 0.5));  // no slide: the rod itself
+  EXPECT_NEAR(lo0, -0.5, 0.011);
+  EXPECT_NEAR(hi0, 1.5, 0.011);
 }

@@ -214,6 +214,12 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
   }
   if (r.status == Status::Ambiguous) {
     t = Clock::now();
+    if (const auto axis = flat_translation(r, s.trust))
+      for (const auto& c : good)
+        if (fits_as_well(c.fit.overlap, c.fit.fitness_mm2, best.fit.overlap, best.fit.fitness_mm2)) {
+          const double along = axis->dot(c.T.translation() - best.T.translation());
+          r.flat_from_mm = std::min(r.flat_from_mm, along), r.flat_to_mm = std::max(r.flat_to_mm, along);
+        }
     const RefineInput in{ref, scan, tree, ref_tree, best.T, voxel, s.refine, s.pre.use_viewpoint};
     if (const auto sl = slide_search(in, matcher, s.trust, r)) {
       const Pose& T = sl->result.T_scan_ref;
@@ -268,13 +274,13 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
 }
 
 PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& T_scan_ref, double radius,
-                     const Eigen::Vector3d& slide) {
+                     const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
   // Copies slid at most one radius apart: their balls overlap, so the crop is one swept tube.
-  const int n = radius > 0 ? int(std::ceil(slide.norm() / radius - 1e-9)) : 0;
+  const int n = radius > 0 ? int(std::ceil((to - from).norm() / radius - 1e-9)) : 0;
   PclCloud::Ptr placed(new PclCloud);
   Eigen::AlignedBox3f box;
-  for (int k = -n; k <= n; ++k) {
-    const Pose T = Eigen::Translation3d((n ? double(k) / n : 0.0) * slide) * T_scan_ref;
+  for (int k = 0; k <= n; ++k) {
+    const Pose T = Eigen::Translation3d(from + (n ? double(k) / n : 0.0) * (to - from)) * T_scan_ref;
     for (const auto& p : ref.points) {
       if (!p.allFinite()) continue;
       PointT q;
@@ -369,14 +375,20 @@ RegistrationResult register_segmented(const PointCloud& scan_in, const PointClou
   // shaft and comes back ambiguous. Near the pose found, every piece of the part is within reach:
   // refine once more on all scan points near the reference placed there.
   if (best.status != Status::Failed && best.unobservable > 0) {
-    // A pose flat along a translation may be as far as the slide range from the pinned one: the
-    // crop reaches that far along it, or the slide search inside it misses what pins the part
-    // (the needle's head beyond its eye, 1.2 mm away with the prior 3 mm off).
-    const auto flat = flat_translation(best, s.trust);
-    const Eigen::Vector3d reach = flat ? Eigen::Vector3d(s.trust.slide_range_mm * *flat) : Eigen::Vector3d::Zero();
-    PointCloud grown = crop_near(scan, ref, best.T_scan_ref, s.prior_radius_mm, reach);
+    // A pose flat along a translation may be anywhere on the plateau its equally good attempts
+    // spread over, and up to the slide range beyond: the crop and the slide search reach that
+    // far along it, or they miss what pins the part (the needle's head beyond its eye: 1.2 mm
+    // away with the prior 3 mm off; 6.3 mm with attempts spread over the shaft, trial 167).
+    RegistrationSettings g = s;
+    Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();
+    if (const auto flat = flat_translation(best, s.trust); flat && s.trust.slide_range_mm > 0) {
+      const double range = s.trust.slide_range_mm;
+      from = (best.flat_from_mm - range) * *flat, to = (best.flat_to_mm + range) * *flat;
+      g.trust.slide_range_mm = std::min(range + std::max(-best.flat_from_mm, best.flat_to_mm),
+                                        max_slide_steps * s.trust.slide_step_mm);
+    }
+    PointCloud grown = crop_near(scan, ref, best.T_scan_ref, s.prior_radius_mm, from, to);
     if (grown.points.size() >= 10) {
-      RegistrationSettings g = s;
       g.prior = best.T_scan_ref, g.skip_coarse = true;
       try {
         RegistrationResult r = register_cloud(grown, ref, g);

@@ -29,9 +29,10 @@ std::optional<Eigen::Vector3d> flat_translation(const RegistrationResult& r, con
 
 void check_slide_settings(const TrustSettings& t) {
   if (!(t.slide_step_mm >= 0) || !(t.slide_range_mm >= 0) ||
-      (t.slide_step_mm > 0 && t.slide_range_mm > 64 * t.slide_step_mm))
+      (t.slide_step_mm > 0 && t.slide_range_mm > max_slide_steps * t.slide_step_mm))
     throw Error("slide search: step " + std::to_string(t.slide_step_mm) + " mm, range " +
-                std::to_string(t.slide_range_mm) + " mm: both must be >= 0, the range at most 64 steps");
+                std::to_string(t.slide_range_mm) + " mm: both must be >= 0, the range at most " +
+                std::to_string(max_slide_steps) + " steps");
 }
 
 std::optional<SlideOutcome> slide_search(const RefineInput& base, const Matcher& m,
@@ -48,10 +49,15 @@ std::optional<SlideOutcome> slide_search(const RefineInput& base, const Matcher&
   fast.initial_gate_mm = t.slide_step_mm, fast.max_iterations = std::min(fast.max_iterations, 15);
   // The starts are independent: refined in parallel, stored by index, chosen in order (the same
   // pose whatever the thread count).
-  const int steps = int(std::floor(t.slide_range_mm / t.slide_step_mm + 1e-9));
+  auto steps = [&](double reach) {
+    return std::min(max_slide_steps, int(std::floor((t.slide_range_mm + reach) / t.slide_step_mm + 1e-9)));
+  };
+  const int ahead = steps(std::max(0.0, slid.flat_to_mm)), behind = steps(std::max(0.0, -slid.flat_from_mm));
   std::vector<double> offsets;
-  for (int k = 1; k <= steps; ++k)
-    offsets.push_back(k * t.slide_step_mm), offsets.push_back(-k * t.slide_step_mm);
+  for (int k = 1; k <= std::max(ahead, behind); ++k) {
+    if (k <= ahead) offsets.push_back(k * t.slide_step_mm);
+    if (k <= behind) offsets.push_back(-k * t.slide_step_mm);
+  }
   std::vector<RegistrationResult> found(offsets.size());
   std::vector<int> iterations(offsets.size(), 0);
   tbb::parallel_for(size_t(0), offsets.size(), [&](size_t i) {

@@ -21,11 +21,14 @@ struct SlideOutcome {
 // the task's declared weak translation (a plug's slide along itself is expected and reported).
 std::optional<Eigen::Vector3d> flat_translation(const RegistrationResult& r, const TrustSettings& t);
 
-// Throws Error unless step and range are >= 0 and the range is at most 64 steps (each step is
-// two refinements, and the regrown crop spans the range).
+// Throws Error unless step and range are >= 0 and the range is at most max_slide_steps steps
+// (each step is two refinements, and the regrown crop spans the range).
+constexpr int max_slide_steps = 64;
 void check_slide_settings(const TrustSettings& t);
 
-// `slid`: the assessed ambiguous result; `base`: the refinement input (its init is ignored).
+// `slid`: the assessed ambiguous result; `base`: the refinement input (its init is ignored). The
+// starts cover slid's plateau (flat_from_mm .. flat_to_mm) and the slide range beyond it, at most
+// max_slide_steps on either side.
 std::optional<SlideOutcome> slide_search(const RefineInput& base, const Matcher& m,
                                          const TrustSettings& t, const RegistrationResult& slid);
 

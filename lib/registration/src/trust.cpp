@@ -118,6 +118,7 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
   r.hessian_eigenvalues = es.eigenvalues() / std::max(1.0, double(n));
   r.weakest_direction = es.eigenvectors().col(0);
   r.flat = 0, r.unobservable = 0;  // r may have been assessed at another pose before
+  r.flat_from_mm = r.flat_to_mm = 0;
   for (int k = 0; k < 6; ++k) r.flat += es.eigenvalues()[k] < t.ambiguity_ratio * es.eigenvalues()[5];
   const double sigma2 = n > 6 ? res2 / (n - 6) : 0.0;
   // Covariance in [rx ry rz (rad, about the reference centroid), tx ty tz (mm)]: undo the scaling.

@@ -107,6 +107,9 @@ struct RegistrationResult {
   Vector6d weakest_direction = Vector6d::Zero();  // [r (axis, scaled by the part's size) ; t]
   int unobservable = 0;             // ambiguous: the directions it names (>= 1; a declared-weak one counts)
   int flat = 0;                     // Hessian directions below ambiguity_ratio (declared weak or not)
+  // Ambiguous along a translation: where along it (mm from the pose, along its weakest direction)
+  // the attempts that fit as well converged; the plateau the slide search covers.
+  double flat_from_mm = 0, flat_to_mm = 0;
   double voxel_mm = 0;
   std::map<std::string, double> timings_s;  // per stage
   std::vector<std::string> log;             // one line per attempt and decision
@@ -135,9 +138,11 @@ std::vector<PointCloud> segment_clusters(const PointCloud& scan, double voxel_mm
                                          size_t min_points = 50);
 
 // The scan points within `radius_mm` of `ref` placed at `T_scan_ref` (unorganized), or of the
-// reference slid from there by up to +-`slide_mm` (a translation, scan frame, mm).
+// reference slid from there by any translation between `slide_from_mm` and `slide_to_mm` (scan
+// frame).
 PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& T_scan_ref, double radius_mm,
-                     const Eigen::Vector3d& slide_mm = Eigen::Vector3d::Zero());
+                     const Eigen::Vector3d& slide_from_mm = Eigen::Vector3d::Zero(),
+                     const Eigen::Vector3d& slide_to_mm = Eigen::Vector3d::Zero());
 
 // Registers `ref` against up to `max_clusters` parts of the scan — with a prior, first the points
 // near the reference placed there (crop_near), then the clusters nearest it; else the largest
