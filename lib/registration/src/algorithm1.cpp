@@ -196,7 +196,7 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
     // attempts that fit as well as the best, keep the one nearest to it rather than the one with a
     // marginally lower fitness several millimetres along the unobservable direction. Only those:
     // an attempt that stopped on the plateau with its eye off the scan's eye (4.5x the fitness,
-    // 90 % overlap) is not an equal the prior may choose (controller trial 167).
+    // 90 % overlap) is not an equal the prior may choose (trial 328's scan, the prior 3 mm behind).
     const Candidate* nearest = &best;
     for (const auto& c : good)
       if (fits_as_well(c.fit.overlap, c.fit.fitness_mm2, best.fit.overlap, best.fit.fitness_mm2) &&
