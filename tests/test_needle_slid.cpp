@@ -25,19 +25,23 @@ namespace {
 struct Trial328 {
   PointCloud scan = io::read_cloud(test::data("needle_slid/scan_328.pcd"));
   PointCloud ref;
-  Pose gt = pose_from_tq({474.8897926112, 79.2182401681, 252.6259398085},
-                         Eigen::Quaterniond(0.996204785565, -0.007379645604, 0.001152788035, 0.086719300778));
+  Pose gt = pose_from_tq(
+      {474.8897926112, 79.2182401681, 252.6259398085},
+      Eigen::Quaterniond(0.996204785565, -0.007379645604, 0.001152788035, 0.086719300778));
   Eigen::Vector3d axis = gt.rotation().col(0);  // the shaft, scan frame
   reg::RegistrationSettings rs;                 // as the controller sets it
 
   Trial328() {
-    const auto scene = scan::load_scene(std::string(LASERFIT_SOURCE_DIR) + "/datasets/scenes/needle_thread.yaml");
+    const auto scene =
+        scan::load_scene(std::string(LASERFIT_SOURCE_DIR) + "/datasets/scenes/needle_thread.yaml");
     const auto& needle = scene.objects.at(0);
     EXPECT_EQ(needle.name, "needle");
     ref = scan::view_reference(needle.mesh, needle.T_base_object, scene.settings, 60000, 11);
-    reg::load_thresholds(std::string(LASERFIT_SOURCE_DIR) + "/reports/paper/thresholds_needle.yaml").apply(rs, "needle");
+    reg::load_thresholds(std::string(LASERFIT_SOURCE_DIR) + "/reports/paper/thresholds_needle.yaml")
+        .apply(rs, "needle");
     rs.trust.weak_rotation = Eigen::Vector3d::UnitX();
-    rs.pre.use_viewpoint = true, rs.pre.viewpoint = Eigen::Vector3d(478.9268812, 57.58820044, 339.9298223);
+    rs.pre.use_viewpoint = true;
+    rs.pre.viewpoint = Eigen::Vector3d(478.9268812, 57.58820044, 339.9298223);
   }
   // Found again: only the declared spin left, the pose within tolerance.
   void expect_found(const reg::RegistrationResult& r) const {
@@ -56,8 +60,9 @@ TEST(NeedleSlid, TheSlideSearchFindsItAgain) {
   // At the translation the controller got on every scan of that trial (its rotation is the
   // truth's, rounded), refined on the scan points near it as register_segmented's regrowing does.
   const Trial328 t;
-  const Pose slid_pose = pose_from_tq({473.5820477542602, 78.98967682463275, 252.63004349875177},
-                                      Eigen::Quaterniond(0.9962, -0.0074, 0.0012, 0.0867).normalized());
+  const Pose slid_pose =
+      pose_from_tq({473.5820477542602, 78.98967682463275, 252.63004349875177},
+                   Eigen::Quaterniond(0.9962, -0.0074, 0.0012, 0.0867).normalized());
   reg::RegistrationSettings rs = t.rs;
   rs.prior = slid_pose, rs.skip_coarse = true;
   const PointCloud near = reg::crop_near(t.scan, t.ref, slid_pose, 1.0);

@@ -16,7 +16,8 @@
 
 namespace laserfit::registration {
 
-std::optional<Eigen::Vector3d> flat_translation(const RegistrationResult& r, const TrustSettings& t) {
+std::optional<Eigen::Vector3d> flat_translation(const RegistrationResult& r,
+                                                const TrustSettings& t) {
   const Vector6d& d = r.weakest_direction;
   if (r.status != Status::Ambiguous || r.flat == 0 || d.tail<3>().norm() <= d.head<3>().norm())
     return std::nullopt;
@@ -50,9 +51,11 @@ std::optional<SlideOutcome> slide_search(const RefineInput& base, const Matcher&
   // The starts are independent: refined in parallel, stored by index, chosen in order (the same
   // pose whatever the thread count).
   auto steps = [&](double reach) {
-    return std::min(max_slide_steps, int(std::floor((t.slide_range_mm + reach) / t.slide_step_mm + 1e-9)));
+    return std::min(max_slide_steps,
+                    int(std::floor((t.slide_range_mm + reach) / t.slide_step_mm + 1e-9)));
   };
-  const int ahead = steps(std::max(0.0, slid.flat_to_mm)), behind = steps(std::max(0.0, -slid.flat_from_mm));
+  const int ahead = steps(std::max(0.0, slid.flat_to_mm)),
+            behind = steps(std::max(0.0, -slid.flat_from_mm));
   std::vector<double> offsets;
   for (int k = 1; k <= std::max(ahead, behind); ++k) {
     if (k <= ahead) offsets.push_back(k * t.slide_step_mm);

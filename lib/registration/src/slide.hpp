@@ -9,8 +9,8 @@
 namespace laserfit::registration {
 
 struct SlideOutcome {
-  RegistrationResult result;  // the best pinned re-refinement, assessed
-  double offset_mm = 0;       // where along the flat direction its refinement started
+  RegistrationResult result;               // the best pinned re-refinement, assessed
+  double offset_mm = 0;                    // where along the flat direction its refinement started
   std::vector<RegistrationResult> pinned;  // every pinned re-refinement, assessed (rivals for the
                                            // agreement checks)
   int iterations = 0;
@@ -19,7 +19,8 @@ struct SlideOutcome {
 // The flat translation of an ambiguous result that the slide search would search (scan frame,
 // unit): its weakest direction is mostly a translation, below the ambiguity ratio, and not along
 // the task's declared weak translation (a plug's slide along itself is expected and reported).
-std::optional<Eigen::Vector3d> flat_translation(const RegistrationResult& r, const TrustSettings& t);
+std::optional<Eigen::Vector3d> flat_translation(const RegistrationResult& r,
+                                                const TrustSettings& t);
 
 // Throws Error unless step and range are >= 0 and the range is at most max_slide_steps steps
 // (each step is two refinements, and the regrown crop spans the range).
