@@ -199,7 +199,7 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
     // 90 % overlap) is not an equal the prior may choose (trial 328's scan, the prior 3 mm behind).
     const Candidate* nearest = &best;
     for (const auto& c : good)
-      if (fits_as_well(c.fit.overlap, c.fit.fitness_mm2, best.fit.overlap, best.fit.fitness_mm2) &&
+      if (fits_as_well(c.fit, best.fit) &&
           (c.T.translation() - s.prior->translation()).norm() <
               (nearest->T.translation() - s.prior->translation()).norm())
         nearest = &c;
@@ -216,7 +216,7 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
     t = Clock::now();
     if (const auto axis = flat_translation(r, s.trust))
       for (const auto& c : good)
-        if (fits_as_well(c.fit.overlap, c.fit.fitness_mm2, best.fit.overlap, best.fit.fitness_mm2)) {
+        if (fits_as_well(c.fit, best.fit)) {
           const double along = axis->dot(c.T.translation() - best.T.translation());
           r.flat_from_mm = std::min(r.flat_from_mm, along), r.flat_to_mm = std::max(r.flat_to_mm, along);
         }
@@ -256,7 +256,7 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
     // structure, not a pose.
     for (const auto& c : good)
       if (!agree(c.T, best.T, *ref, s.trust) &&
-          fits_as_well(c.fit.overlap, c.fit.fitness_mm2, best.fit.overlap, best.fit.fitness_mm2)) {
+          fits_as_well(c.fit, best.fit)) {
         r.status = Status::Ambiguous;
         r.reason = "attempts converged to different poses with equal fit (symmetric part?)";
         break;

@@ -83,7 +83,7 @@ std::optional<SlideOutcome> slide_search(const RefineInput& base, const Matcher&
     // Pinned: fewer flat directions than the slid pose, and as good a fit of as much of the
     // scan, not a pose that explains less of it.
     if (x.status == Status::Failed || x.flat >= slid.flat) continue;
-    if (!fits_as_well(x.overlap, x.fitness_mm2, slid.overlap, slid.fitness_mm2)) continue;
+    if (!fits_as_well(x, slid)) continue;
     pinned.push_back(x);
     if (!out || x.fitness_mm2 < out->result.fitness_mm2) out = SlideOutcome{x, offsets[i], {}, 0};
   }

@@ -84,8 +84,10 @@ Fit evaluate(const PclCloud& scan, const Tree& ref_tree, const Pose& T_scan_ref,
 // pose that leaves a few percent of the scan unexplained (a hole matched to the wrong hole, a
 // needle slid off its eye) is worse, not an equal. The one rule for rivals, for choosing by the
 // prior among attempts, and for pinned slides.
-inline bool fits_as_well(double overlap, double fitness_mm2, double than_overlap, double than_fitness_mm2) {
-  return overlap >= 0.98 * than_overlap && fitness_mm2 <= 1.5 * than_fitness_mm2;
+// Fit and RegistrationResult both carry overlap and fitness_mm2.
+template <class A, class B>
+bool fits_as_well(const A& a, const B& than) {
+  return a.overlap >= 0.98 * than.overlap && a.fitness_mm2 <= 1.5 * than.fitness_mm2;
 }
 // The point-to-plane normal equations at pose T (scaled Hessian H, residual sum, RMS radius L).
 struct PlaneSystem {
