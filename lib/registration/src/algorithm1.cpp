@@ -381,7 +381,8 @@ RegistrationResult register_segmented(const PointCloud& scan_in, const PointClou
     // away with the prior 3 mm off; 6.3 mm with attempts spread over the shaft, trial 167).
     RegistrationSettings g = s;
     Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();
-    if (const auto flat = flat_translation(best, s.trust); flat && s.trust.slide_range_mm > 0) {
+    const auto flat = flat_translation(best, s.trust);
+    if (flat && s.trust.slide_range_mm > 0) {
       const double range = s.trust.slide_range_mm;
       from = (best.flat_from_mm - range) * *flat, to = (best.flat_to_mm + range) * *flat;
       g.trust.slide_range_mm = std::min(range + std::max(-best.flat_from_mm, best.flat_to_mm),
@@ -389,11 +390,19 @@ RegistrationResult register_segmented(const PointCloud& scan_in, const PointClou
     }
     PointCloud grown = crop_near(scan, ref, best.T_scan_ref, s.prior_radius_mm, from, to);
     if (grown.points.size() >= 10) {
-      g.prior = best.T_scan_ref, g.skip_coarse = true;
+      // Flat along one translation (a shaft), the part slides on a line the crop and the slide
+      // search cover, so refining from the pose found is enough. Flat in more (a piece of plate:
+      // two translations and a spin) it may sit anywhere on that plane and the pose found is a
+      // guess: the grown crop is registered afresh (that pose first, then RANSAC) with the rival
+      // and confirmation checks of any registration. Refined from the guess, the o2ac panel
+      // (taskboard trial 53) came back ok 15.6 mm off, explaining half the crop.
+      g.prior = best.T_scan_ref, g.skip_coarse = flat && best.flat == 1;
       try {
         RegistrationResult r = register_cloud(grown, ref, g);
         const bool better = rank(r) < rank(best) || (rank(r) == rank(best) && r.unobservable < best.unobservable);
-        best.log.push_back(std::string("regrown around the pose found: ") + status_name(r.status) + ", " +
+        best.log.push_back(std::string("regrown around the pose found (flat in ") + std::to_string(best.flat) +
+                           (g.skip_coarse ? ", refined): " : ", registered afresh): ") + status_name(r.status) +
+                           (r.reason.empty() ? "" : " (" + r.reason + ")") + ", " +
                            std::to_string(r.unobservable) + " unobservable direction(s)" +
                            (better ? " -> kept" : " -> not better"));
         if (better) {
