@@ -267,3 +267,41 @@ TEST(Controller, AxialTrustRegionLimitsOnlyTheMoveAlongTheAxis) {
     EXPECT_LT((c.delta.translation() - (expect * axis - 0.04 * side)).norm(), 1e-9) << along;
   }
 }
+
+// With the target's spin taken from the prior (a needle ambiguous about its shaft), the goal axis'
+// tilt about the shaft is not measured: the orientation correction leaves it and corrects only
+// the tilt toward or away from the shaft, about the tip. Tolerance 1e-9 (rad, mm: algebra).
+TEST(Controller, OrientationCorrectionLeavesTheTiltAboutAPriorSpin) {
+  controller::Measurement m;
+  const Pose goal = goal_above(m, 2.0);
+  const Pose goal_scan = m.T_scan_target * goal;
+  const Eigen::Vector3d shaft = m.T_scan_target.linear().col(0),
+                        across = m.T_scan_target.linear().col(1);
+  m.target_prior_spin_axis = shaft;
+  for (const double about_shaft : {0.0, 0.03}) {  // tilted about the shaft (not measured) ...
+    for (const double toward_shaft : {0.0, -0.02, 0.05}) {  // ... and toward it (measured)
+      m.T_scan_part = goal_scan;
+      m.T_scan_part.linear() =
+          (Eigen::AngleAxisd(toward_shaft, across) * Eigen::AngleAxisd(about_shaft, shaft))
+              .toRotationMatrix() *
+          goal_scan.linear();
+      const auto c = controller::compute_correction(m, goal, true);
+      const Eigen::Vector3d a = c.delta.linear() * m.T_scan_part.linear().col(2);
+      const double elevation = std::asin(m.T_scan_part.linear().col(2).dot(shaft));  // goal's is 0
+      EXPECT_NEAR(c.angle_deg, std::abs(elevation) * 180 / M_PI, 1e-7)
+          << about_shaft << " " << toward_shaft;
+      if (about_shaft == 0) {
+        EXPECT_NEAR(elevation, -toward_shaft, 1e-12);
+      }
+      EXPECT_NEAR(a.dot(shaft), goal_scan.linear().col(2).dot(shaft),
+                  1e-9);  // the measured angle fixed
+      EXPECT_NEAR(a.dot(m.T_scan_part.linear().col(2).cross(shaft)), 0.0,
+                  1e-9);  // its azimuth about it kept
+      EXPECT_LT((c.delta * m.T_scan_part.translation() - m.T_scan_part.translation()).norm(),
+                1e-9);  // about the tip
+    }
+  }
+  m.target_prior_spin_axis.reset();  // measured spin: the whole rotation is corrected
+  const auto c = controller::compute_correction(m, goal, true);
+  EXPECT_LT(((c.delta.linear() * m.T_scan_part.linear()) - goal_scan.linear()).norm(), 1e-9);
+}

@@ -53,7 +53,16 @@ Correction compute_correction(const Measurement& m, const Pose& T_target_part_go
   c.lateral_mm = (dt - axis * axis.dot(dt)).norm();
   c.axial_mm = axis.dot(dt);
   c.axis = axis;
-  const Eigen::Matrix3d dR = goal.linear() * m.T_scan_part.linear().transpose();
+  Eigen::Matrix3d dR = goal.linear() * m.T_scan_part.linear().transpose();
+  if (m.target_prior_spin_axis) {
+    // The target's spin about w is the prior's: in the scan frame it is off by the sensing arm's
+    // orientation error (degrees), so the goal axis is too. Only the part axis' angle to w is
+    // measured: tilt the part axis in the plane of it and w until that angle is the goal's.
+    const Eigen::Vector3d& w = *m.target_prior_spin_axis;
+    const Eigen::Vector3d a = m.T_scan_part.linear().col(2), k = a.cross(w);
+    const double tilt = std::acos(std::clamp(a.dot(w), -1.0, 1.0)) - std::acos(std::clamp(axis.dot(w), -1.0, 1.0));
+    dR = k.norm() > 1e-9 ? Eigen::AngleAxisd(tilt, k.normalized()).toRotationMatrix() : Eigen::Matrix3d::Identity();
+  }
   c.angle_deg = Eigen::AngleAxisd(dR).angle() * 180 / M_PI;
   if (with_orientation) {
     // Rotate about the part's tip, then translate: the tip lands on the goal.

@@ -72,8 +72,10 @@ Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const 
     const std::string& w = cs.target_weak_rotation;
     if (m.target.status == registration::Status::Ambiguous && !w.empty()) {
       const Eigen::Vector3d e = *registration::named_axis(w);
-      if (registration::weakest_is_rotation_about(m.target, m.T_scan_target.linear() * e))
+      if (registration::weakest_is_rotation_about(m.target, m.T_scan_target.linear() * e)) {
         m.T_scan_target = with_prior_spin(m.T_scan_target, target_prior, e);
+        m.target_prior_spin_axis = m.T_scan_target.linear() * e;
+      }
     }
     return true;
   };

@@ -54,6 +54,8 @@ struct Measurement {
   std::string reason;
   Pose T_scan_target = Pose::Identity(), T_scan_part = Pose::Identity();
   bool part_axial_unknown = false;      // ambiguous along the part's own axis (harmless)
+  // Set when the target's spin about this axis (scan frame) is the prior's, not measured.
+  std::optional<Eigen::Vector3d> target_prior_spin_axis;
   registration::RegistrationResult target, part;
 };
 
