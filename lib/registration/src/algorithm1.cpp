@@ -303,7 +303,9 @@ PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& 
     if (!p.allFinite() || !box.contains(p)) continue;
     PointT q;
     q.getVector3fMap() = p;
-    if (tree.nearestKSearch(q, 1, idx, d2) < 1 || d2[0] > radius * radius) continue;
+    // A radius-bounded search: most scan points are far from the part, and an unbounded nearest
+    // search from them descends much of the tree (77 s for the o2ac panel's 1.5 M points).
+    if (tree.radiusSearch(q, radius, idx, d2, 1) < 1) continue;
     out.points.push_back(p);
     if (labels) out.labels.push_back(scan.labels[i]);
   }
