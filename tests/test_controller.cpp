@@ -293,12 +293,12 @@ TEST(Controller, OrientationCorrectionLeavesTheTiltAboutAPriorSpin) {
       if (about_shaft == 0) {
         EXPECT_NEAR(elevation, -toward_shaft, 1e-12);
       }
-      EXPECT_NEAR(a.dot(shaft), goal_scan.linear().col(2).dot(shaft),
-                  1e-9);  // the measured angle fixed
-      EXPECT_NEAR(a.dot(m.T_scan_part.linear().col(2).cross(shaft)), 0.0,
-                  1e-9);  // its azimuth about it kept
-      EXPECT_LT((c.delta * m.T_scan_part.translation() - m.T_scan_part.translation()).norm(),
-                1e-9);  // about the tip
+      // The measured angle to the shaft is the goal's, the azimuth about the shaft is kept, and
+      // the tip does not move.
+      const Eigen::Vector3d a0 = m.T_scan_part.linear().col(2);
+      EXPECT_NEAR(a.dot(shaft), goal_scan.linear().col(2).dot(shaft), 1e-9);
+      EXPECT_NEAR(a.dot(a0.cross(shaft)), 0.0, 1e-9);
+      EXPECT_LT((c.delta * m.T_scan_part.translation() - m.T_scan_part.translation()).norm(), 1e-9);
     }
   }
   m.target_prior_spin_axis.reset();  // measured spin: the whole rotation is corrected
