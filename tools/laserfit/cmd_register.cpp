@@ -56,6 +56,8 @@ io::Json result_json(const std::string& ref, const registration::RegistrationRes
           {"voxel_mm", r.voxel_mm},
           {"covariance", cov},
           {"covariance_order", "rx ry rz (rad, about the matched points' centroid), tx ty tz (mm)"},
+          {"sigma_origin_um", r.sigma_origin_mm * 1e3},
+          {"sigma_rotation_deg", r.sigma_rotation_deg},
           {"hessian_eigenvalues", std::vector<double>(r.hessian_eigenvalues.data(), r.hessian_eigenvalues.data() + 6)},
           {"timings_s", r.timings_s},
           {"log", r.log}};

@@ -162,6 +162,7 @@ std::vector<io::Json> run_trial(const Benchmark& b, const PreparedScene& p, cons
                      {"overlap", res.overlap}, {"attempts", res.attempts}, {"voxel_mm", res.voxel_mm},
                      {"hessian_ratio", res.hessian_eigenvalues[5] > 0
                                            ? res.hessian_eigenvalues[0] / res.hessian_eigenvalues[5] : 0.0},
+                     {"sigma_origin_um", res.sigma_origin_mm * 1e3}, {"sigma_rotation_deg", res.sigma_rotation_deg},
                      {"scan_points", in.scan_points}, {"visible_points", visible},
                      {"T_scan_ref", io::pose_to_json(res.T_scan_ref).at("matrix")},
                      {"timing", timing}});

@@ -269,6 +269,7 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
                  " converged, none agreeing with the best)";
     }
   }
+  check_pinned(s.trust, r);
   r.timings_s["assess"] = since(t);
   return r;
 }

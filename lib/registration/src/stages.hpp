@@ -94,9 +94,18 @@ struct PlaneSystem {
   Matrix6d H = Matrix6d::Zero();
   double residual2 = 0, L = 1;
   size_t n = 0;
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();  // the matched scan points' centroid
+  std::vector<Match> matches;
 };
 PlaneSystem plane_system(const PclCloud& scan, const Tree& ref_tree, const Pose& T, const Matcher& m);
 void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const TrustSettings& t,
             double voxel, RegistrationResult& r);
+// An `ok` whose jackknife sigma (set by assess) is above the trust limits -> ambiguous, not
+// pinned. Last, after the rival and confirmation checks: a wrong pose those fail stays failed.
+void check_pinned(const TrustSettings& t, RegistrationResult& r);
+// Block-jackknife covariance of the pose ([rx ry rz (rad, about c), tx ty tz (mm)]) from the
+// matches at the final pose, per_axis^2 blocks (jackknife.cpp); nullopt with too few matches.
+std::optional<Matrix6d> block_jackknife(const std::vector<Match>& M, const Eigen::Vector3d& c, double L,
+                                        int per_axis);
 
 }  // namespace laserfit::registration

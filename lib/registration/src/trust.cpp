@@ -50,9 +50,9 @@ PlaneSystem plane_system(const PclCloud& scan, const Tree& ref_tree, const Pose&
   // about the matched points' centroid (so rotation and translation decouple); rotations scaled
   // by the RMS radius L to make the six directions comparable. All in the scan frame.
   PlaneSystem sys;
-  const auto M = match(scan, ref_tree, T, m);
+  auto M = match(scan, ref_tree, T, m);
   sys.n = M.size();
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  Eigen::Vector3d& c = sys.c;
   for (const auto& x : M) c += x.q, sys.residual2 += std::pow(x.n.dot(x.q - x.p), 2);
   c /= std::max<size_t>(sys.n, 1);
   double L2 = 0;
@@ -63,6 +63,7 @@ PlaneSystem plane_system(const PclCloud& scan, const Tree& ref_tree, const Pose&
     J << (x.q - c).cross(x.n) / sys.L, x.n;
     sys.H += J * J.transpose();
   }
+  sys.matches = std::move(M);
   return sys;
 }
 
@@ -84,7 +85,7 @@ std::ostream& operator<<(std::ostream& o, const Dof& d) {
            << ", " << d.axis.z() << "]";
 }
 bool weakest_along(const RegistrationResult& r, bool rotation, const Eigen::Vector3d& axis, double tol_deg) {
-  if (r.status != Status::Ambiguous) return false;
+  if (r.status != Status::Ambiguous || r.not_pinned) return false;  // not pinned: it names no DoF
   const Dof dof = dof_of(r.weakest_direction);
   return dof.rotation == rotation && along(dof, axis, tol_deg);
 }
@@ -128,6 +129,23 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
   Vector6d s;
   s << 1 / L, 1 / L, 1 / L, 1, 1, 1;
   r.covariance = s.asDiagonal() * cov * s.asDiagonal();
+  r.sigma_origin_mm = r.sigma_rotation_deg = 0;
+  if (const auto cj = block_jackknife(sys.matches, sys.c, L, t.jackknife_blocks)) {
+    // The origin moves by w x (o - c) + t for a rotation w about the centroid c and a shift t.
+    Eigen::Matrix<double, 3, 6> J;
+    const Eigen::Vector3d oc = r.T_scan_ref.translation() - sys.c;
+    Eigen::Matrix3d oc_x;  // oc_x * w = oc x w
+    oc_x << 0, -oc.z(), oc.y(), oc.z(), 0, -oc.x(), -oc.y(), oc.x(), 0;
+    J << -oc_x, Eigen::Matrix3d::Identity();
+    const Eigen::Matrix3d Co = J * *cj * J.transpose();
+    const Eigen::Matrix3d Cr = cj->topLeftCorner<3, 3>();
+    auto top_sigma = [](const Eigen::Matrix3d& C) {
+      return C.allFinite() ? std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvalues()[2]))
+                           : std::numeric_limits<double>::infinity();
+    };
+    r.sigma_origin_mm = top_sigma(Co);
+    r.sigma_rotation_deg = top_sigma(Cr) * 180 / M_PI;
+  }
 
   std::ostringstream why;
   if (f.overlap < t.min_overlap) {
@@ -157,6 +175,21 @@ std::optional<Eigen::Vector3d> named_axis(const std::string& name) {
   if (name.empty()) return std::nullopt;
   if (name != "x" && name != "y" && name != "z") throw Error("axis '" + name + "': must be x, y or z");
   return Eigen::Vector3d::Unit(name[0] - 'x');
+}
+
+void check_pinned(const TrustSettings& t, RegistrationResult& r) {
+  r.not_pinned = false;
+  if (r.status != Status::Ok) return;
+  if ((t.max_sigma_mm > 0 && r.sigma_origin_mm > t.max_sigma_mm) ||
+      (t.max_sigma_deg > 0 && r.sigma_rotation_deg > t.max_sigma_deg)) {
+    std::ostringstream why;
+    why << "not pinned: leaving out one region of the scan moves the origin by sigma " << r.sigma_origin_mm * 1e3
+        << " um (limit " << t.max_sigma_mm * 1e3 << "), the rotation by " << r.sigma_rotation_deg << " deg (limit "
+        << t.max_sigma_deg << ")";
+    r.status = Status::Ambiguous;
+    r.not_pinned = true;
+    r.reason = why.str();
+  }
 }
 
 bool weakest_is_rotation_about(const RegistrationResult& r, const Eigen::Vector3d& axis, double tol_deg) {
