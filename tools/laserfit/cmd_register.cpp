@@ -18,6 +18,8 @@ struct Options {
   std::string scan, method = "ceres", coarse = "gated", prior, q0, viewpoint, thresholds, object, thin = "auto";
   std::string weak_rotation, weak_translation;  // x | y | z of the reference frame
   double thin_axis_sigma = registration::ThinSettings{}.axis_prior_deg;
+  double max_sigma_um = registration::TrustSettings{}.max_sigma_mm * 1e3;
+  double max_sigma_deg = registration::TrustSettings{}.max_sigma_deg;
   CLI::App* app = nullptr;  // to tell the options given from the defaults
   std::vector<std::string> refs;
   double voxel = 0, rho_rot = 30, rho_icp = 0.05;
@@ -90,6 +92,7 @@ int run(const Options& o) {
   s.thin.mode = o.thin, s.thin.axis_prior_deg = o.thin_axis_sigma;
   s.trust.weak_rotation = registration::named_axis(o.weak_rotation);
   s.trust.weak_translation = registration::named_axis(o.weak_translation);
+  s.trust.max_sigma_mm = o.max_sigma_um * 1e-3, s.trust.max_sigma_deg = o.max_sigma_deg;
   if (!o.prior.empty()) s.prior = parse_pose(o.prior, "--prior"), s.skip_coarse = o.refine_only;
   if (!o.q0.empty()) {
     std::istringstream in(o.q0);
@@ -171,6 +174,12 @@ Command add_register(CLI::App& root) {
       ->check(CLI::IsMember({"x", "y", "z"}));
   app->add_option("--weak-translation", o->weak_translation, "likewise a translation (e.g. a plug's slide along "
                                                            "itself)")->check(CLI::IsMember({"x", "y", "z"}));
+  app->add_option("--max-sigma-um", o->max_sigma_um,
+                  "trust: an ok whose origin moves by more than this (jackknife sigma, one region of the scan "
+                  "left out) is ambiguous, not pinned; your insertion tolerance (0 = no limit)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app->add_option("--max-sigma-deg", o->max_sigma_deg, "likewise for the rotation (deg)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
   app->add_flag("--json", o->json, "machine-readable result on stdout");
   o->app = app;
   return {app, [o] { return run(*o); }};
