@@ -15,8 +15,8 @@ namespace reg = laserfit::registration;
 
 namespace {
 
-// A 40 x 30 mm plate with two 8 mm square bosses, 2 mm high, near opposite corners, 50 mm from the mesh
-// origin (as a panel's scan window sees a corner of it, far from the part's frame).
+// A 40 x 30 mm plate with two 8 mm square bosses, 2 mm high, near opposite corners, 50 mm from the
+// mesh origin (as a panel's scan window sees a corner of it, far from the part's frame).
 TriMesh plate_with_bosses() {
   TriMesh m;
   auto add = [&m](const TriMesh& b) {
@@ -32,7 +32,8 @@ TriMesh plate_with_bosses() {
     const float inset = hi.z() - lo.z();
     const Eigen::Vector3f c = b.bbox().center();
     for (auto& v : b.vertices)
-      if (v.z() == hi.z()) v.head<2>() = c.head<2>() + (v - c).head<2>().cwiseSign() * ((hi - lo).x() / 2 - inset);
+      if (v.z() == hi.z())
+        v.head<2>() = c.head<2>() + (v - c).head<2>().cwiseSign() * ((hi - lo).x() / 2 - inset);
     return b;
   };
   add(frustum({33, -13, 0}, {41, -5, 2}));
@@ -105,16 +106,20 @@ double covariance_sigma_um(const reg::RegistrationResult& r, const Eigen::Vector
 
 TEST(Jackknife, ABiasedRegionThatAlonePinsThePoseIsNotTrusted) {
   const TriMesh m = plate_with_bosses();
-  const Pose T = pose_from_tq({400, -30, 5}, Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ())));
+  const Pose T = pose_from_tq({400, -30, 5},
+                              Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ())));
   const auto clean = run(m, T, 0);
   const auto biased = run(m, T, 0.03);  // one boss seen 30 um off along x
-  auto t_err_um = [&](const reg::RegistrationResult& r) { return (r.T_scan_ref.translation() - T.translation()).norm() * 1e3; };
+  auto t_err_um = [&](const reg::RegistrationResult& r) {
+    return (r.T_scan_ref.translation() - T.translation()).norm() * 1e3;
+  };
   const Eigen::Vector3d window = T * Eigen::Vector3d(50, 0, 0);  // ~ the matched points' centroid
-  std::cout << "clean: " << reg::status_name(clean.status) << ", jackknife sigma " << clean.sigma_origin_mm * 1e3
-            << " um, t_err " << t_err_um(clean) << " um; biased: " << reg::status_name(biased.status)
-            << ", jackknife sigma " << biased.sigma_origin_mm * 1e3 << " um, sigma from H^-1 "
-            << covariance_sigma_um(biased, window) << " um, t_err " << t_err_um(biased) << " um (" << biased.reason
-            << ")\n";
+  std::cout << "clean: " << reg::status_name(clean.status) << ", jackknife sigma "
+            << clean.sigma_origin_mm * 1e3 << " um, t_err " << t_err_um(clean)
+            << " um; biased: " << reg::status_name(biased.status) << ", jackknife sigma "
+            << biased.sigma_origin_mm * 1e3 << " um, sigma from H^-1 "
+            << covariance_sigma_um(biased, window) << " um, t_err " << t_err_um(biased) << " um ("
+            << biased.reason << ")\n";
   // Clean (1 um white noise): ok, sigma and error under 1 um (measured 0.17 and 0.12 um).
   EXPECT_EQ(clean.status, reg::Status::Ok) << clean.reason;
   EXPECT_LT(clean.sigma_origin_mm * 1e3, 1.0);

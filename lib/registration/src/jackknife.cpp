@@ -16,16 +16,18 @@ namespace laserfit::registration {
 
 namespace {
 // Splits idx (sorted in place by key) into `parts` runs of nearly equal length.
-std::vector<std::vector<int>> quantile_split(std::vector<int> idx, const std::vector<double>& key, int parts) {
-  std::sort(idx.begin(), idx.end(), [&](int a, int b) { return key[a] < key[b] || (key[a] == key[b] && a < b); });
+std::vector<std::vector<int>> quantile_split(std::vector<int> idx, const std::vector<double>& key,
+                                             int parts) {
+  std::sort(idx.begin(), idx.end(),
+            [&](int a, int b) { return key[a] < key[b] || (key[a] == key[b] && a < b); });
   std::vector<std::vector<int>> out(parts);
   for (size_t i = 0; i < idx.size(); ++i) out[i * parts / idx.size()].push_back(idx[i]);
   return out;
 }
 }  // namespace
 
-std::optional<Matrix6d> block_jackknife(const std::vector<Match>& M, const Eigen::Vector3d& c, double L,
-                                        int per_axis) {
+std::optional<Matrix6d> block_jackknife(const std::vector<Match>& M, const Eigen::Vector3d& c,
+                                        double L, int per_axis) {
   const int K = per_axis * per_axis;
   if (per_axis < 2 || M.size() < size_t(20 * K)) return std::nullopt;
   // Blocks: quantiles along the matched points' two principal axes (equal counts; a grid of
