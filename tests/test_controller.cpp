@@ -150,6 +150,9 @@ TEST(Controller, RefusesLargeCorrectionsAndUntrustedRegistrations) {
   EXPECT_NE(why.find("ambiguous"), std::string::npos);
   r.weakest_direction << 0, 0, 0, 0, 0, 1;  // along the part's z: harmless, accepted
   EXPECT_TRUE(controller::acceptable(r, "", "z", Pose::Identity(), &why));
+  r.not_pinned = true;  // the jackknife's "not pinned" names no DoF, even if the weakest is z
+  EXPECT_FALSE(controller::acceptable(r, "", "z", Pose::Identity(), &why));
+  r.not_pinned = false;
   r.status = registration::Status::Ok;
   EXPECT_TRUE(controller::acceptable(r, "", "", Pose::Identity(), &why));
 }
