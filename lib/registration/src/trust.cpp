@@ -2,6 +2,7 @@
 // point-to-plane Hessian -> ambiguous along its weakest direction (e.g. rotation about a round
 // peg's axis) instead of an arbitrary angle; otherwise ok, with covariance sigma^2 H^-1.
 #include <Eigen/Eigenvalues>
+#include <cmath>
 #include <sstream>
 
 #include "laserfit/core/error.hpp"
@@ -129,7 +130,8 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
   Vector6d s;
   s << 1 / L, 1 / L, 1 / L, 1, 1, 1;
   r.covariance = s.asDiagonal() * cov * s.asDiagonal();
-  r.sigma_origin_mm = r.sigma_rotation_deg = 0;
+  // Not computed (too few matched points for its blocks): unknown, so infinite; 0 when disabled.
+  r.sigma_origin_mm = r.sigma_rotation_deg = t.jackknife_blocks > 0 ? std::numeric_limits<double>::infinity() : 0;
   if (const auto cj = block_jackknife(sys.matches, sys.c, L, t.jackknife_blocks)) {
     // The origin moves by w x (o - c) + t for a rotation w about the centroid c and a shift t.
     Eigen::Matrix<double, 3, 6> J;
@@ -183,7 +185,11 @@ void check_pinned(const TrustSettings& t, RegistrationResult& r) {
   if ((t.max_sigma_mm > 0 && r.sigma_origin_mm > t.max_sigma_mm) ||
       (t.max_sigma_deg > 0 && r.sigma_rotation_deg > t.max_sigma_deg)) {
     std::ostringstream why;
-    why << "not pinned: leaving out one region of the scan moves the origin by sigma " << r.sigma_origin_mm * 1e3
+    if (!std::isfinite(r.sigma_origin_mm) && !std::isfinite(r.sigma_rotation_deg))
+      why << "not pinned: the jackknife could not bound it (fewer than " << 20 * t.jackknife_blocks * t.jackknife_blocks
+          << " matched points, or one region alone pins a direction)";
+    else
+      why << "not pinned: leaving out one region of the scan moves the origin by sigma " << r.sigma_origin_mm * 1e3
         << " um (limit " << t.max_sigma_mm * 1e3 << "), the rotation by " << r.sigma_rotation_deg << " deg (limit "
         << t.max_sigma_deg << ")";
     r.status = Status::Ambiguous;

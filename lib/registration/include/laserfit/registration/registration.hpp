@@ -118,7 +118,8 @@ struct RegistrationResult {
   int unobservable = 0;             // ambiguous: the directions it names (>= 1; a declared-weak one counts)
   int flat = 0;                     // Hessian directions below ambiguity_ratio (declared weak or not)
   // Block-jackknife standard deviations (TrustSettings::jackknife_blocks): of the reference
-  // origin's position (largest axis, mm) and of the rotation (largest axis, deg); 0 if not computed.
+  // origin's position (largest axis, mm) and of the rotation (largest axis, deg); infinite when
+  // too few points were matched to compute them (JSON: null), 0 when the jackknife is off.
   double sigma_origin_mm = 0, sigma_rotation_deg = 0;
   bool not_pinned = false;          // ambiguous because a sigma is above TrustSettings' limit
   // Ambiguous along a translation: where along it (mm from the pose, along its weakest direction)
