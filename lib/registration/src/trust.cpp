@@ -133,20 +133,8 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
   // Not computed (too few matched points for its blocks): unknown, so infinite; 0 when disabled.
   r.sigma_origin_mm = r.sigma_rotation_deg = t.jackknife_blocks > 0 ? std::numeric_limits<double>::infinity() : 0;
   if (const auto cj = block_jackknife(sys.matches, sys.c, L, t.jackknife_blocks)) {
-    // The origin moves by w x (o - c) + t for a rotation w about the centroid c and a shift t.
-    Eigen::Matrix<double, 3, 6> J;
-    const Eigen::Vector3d oc = r.T_scan_ref.translation() - sys.c;
-    Eigen::Matrix3d oc_x;  // oc_x * w = oc x w
-    oc_x << 0, -oc.z(), oc.y(), oc.z(), 0, -oc.x(), -oc.y(), oc.x(), 0;
-    J << -oc_x, Eigen::Matrix3d::Identity();
-    const Eigen::Matrix3d Co = J * *cj * J.transpose();
-    const Eigen::Matrix3d Cr = cj->topLeftCorner<3, 3>();
-    auto top_sigma = [](const Eigen::Matrix3d& C) {
-      return C.allFinite() ? std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvalues()[2]))
-                           : std::numeric_limits<double>::infinity();
-    };
-    r.sigma_origin_mm = top_sigma(Co);
-    r.sigma_rotation_deg = top_sigma(Cr) * 180 / M_PI;
+    r.sigma_origin_mm = origin_sigma_mm(*cj, r.T_scan_ref.translation() - sys.c);
+    r.sigma_rotation_deg = top_sigma(cj->topLeftCorner<3, 3>()) * 180 / M_PI;
   }
 
   std::ostringstream why;
@@ -177,6 +165,20 @@ std::optional<Eigen::Vector3d> named_axis(const std::string& name) {
   if (name.empty()) return std::nullopt;
   if (name != "x" && name != "y" && name != "z") throw Error("axis '" + name + "': must be x, y or z");
   return Eigen::Vector3d::Unit(name[0] - 'x');
+}
+
+double top_sigma(const Eigen::Matrix3d& C) {
+  return C.allFinite() ? std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvalues()[2]))
+                       : std::numeric_limits<double>::infinity();
+}
+
+double origin_sigma_mm(const Matrix6d& covariance, const Eigen::Vector3d& oc) {
+  // The origin moves by w x oc + t for a rotation w about the centre and a shift t.
+  Eigen::Matrix3d oc_x;  // oc_x * w = oc x w
+  oc_x << 0, -oc.z(), oc.y(), oc.z(), 0, -oc.x(), -oc.y(), oc.x(), 0;
+  Eigen::Matrix<double, 3, 6> J;
+  J << -oc_x, Eigen::Matrix3d::Identity();
+  return top_sigma(J * covariance * J.transpose());
 }
 
 void check_pinned(const TrustSettings& t, RegistrationResult& r) {

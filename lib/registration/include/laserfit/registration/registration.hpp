@@ -137,6 +137,13 @@ RegistrationResult register_cloud(const PointCloud& scan, const PointCloud& ref,
 
 std::vector<std::string> refiner_names();
 
+// Standard deviation along its largest axis (mm) of a point `oc` away from the centre a pose
+// covariance ([rx ry rz (rad, about that centre), tx ty tz (mm)]) is taken about: the reference
+// origin's for RegistrationResult::covariance with oc = origin - matched points' centroid.
+double origin_sigma_mm(const Matrix6d& covariance, const Eigen::Vector3d& oc);
+// Largest standard deviation of a 3x3 covariance (infinite if it is not finite).
+double top_sigma(const Eigen::Matrix3d& covariance);
+
 // For an `ambiguous` result: is its weakest direction a rotation about / a translation along
 // `axis` (scan frame, unit), within `tol_deg`? (Which DoF the scan could not fix.)
 bool weakest_is_rotation_about(const RegistrationResult& r, const Eigen::Vector3d& axis, double tol_deg = 10);
