@@ -80,9 +80,9 @@ std::optional<SlideOutcome> slide_search(const RefineInput& base, const Matcher&
   for (size_t i = 0; i < offsets.size(); ++i) {
     const RegistrationResult& x = found[i];
     total += iterations[i];
-    // Pinned: fewer flat directions than the slid pose (or ok: weak, pinned by the jackknife),
-    // and as good a fit of as much of the scan, not a pose that explains less of it.
-    if (x.status == Status::Failed || (x.flat >= slid.flat && x.status != Status::Ok)) continue;
+    // Pinned: fewer flat directions than the slid pose, and as good a fit of as much of the
+    // scan, not a pose that explains less of it.
+    if (x.status == Status::Failed || x.flat >= slid.flat) continue;
     if (!fits_as_well(x, slid)) continue;
     pinned.push_back(x);
     if (!out || x.fitness_mm2 < out->result.fitness_mm2) out = SlideOutcome{x, offsets[i], {}, 0};

@@ -101,13 +101,6 @@ int declared_weak(const Eigen::SelfAdjointEigenSolver<Matrix6d>& es, const Pose&
   }
   return -1;
 }
-// A weak but not flat Hessian (see TrustSettings::plateau_ratio) whose pose the jackknife pins.
-bool jackknife_pins(const Eigen::SelfAdjointEigenSolver<Matrix6d>& es, const TrustSettings& t,
-                    const RegistrationResult& r) {
-  const bool weak_not_flat = es.eigenvalues()[0] >= t.plateau_ratio * es.eigenvalues()[5];
-  return weak_not_flat && t.max_sigma_mm > 0 && t.max_sigma_deg > 0 &&
-         r.sigma_origin_mm <= t.max_sigma_mm && r.sigma_rotation_deg <= t.max_sigma_deg;
-}
 }  // namespace
 
 void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const TrustSettings& t,
@@ -151,8 +144,7 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
   } else if (f.rmse_mm > t.max_rmse_vox * voxel) {
     r.status = Status::Failed;
     why << "inlier RMSE " << f.rmse_mm * 1e3 << " um above " << t.max_rmse_vox * voxel * 1e3 << " um";
-  } else if (es.eigenvalues()[0] < t.ambiguity_ratio * es.eigenvalues()[5] &&
-             !jackknife_pins(es, t, r)) {
+  } else if (es.eigenvalues()[0] < t.ambiguity_ratio * es.eigenvalues()[5]) {
     r.status = Status::Ambiguous;
     r.unobservable = r.flat;
     why << "unobservable " << dof_of(r.weakest_direction) << " (scan frame)";

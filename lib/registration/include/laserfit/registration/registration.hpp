@@ -55,12 +55,6 @@ struct TrustSettings {
   double max_rmse_vox = 0.5;        // inlier RMSE above this (in voxels) -> failed
   double min_overlap = 0.3;         // fraction of the reference explained -> else failed
   double ambiguity_ratio = 1e-3;    // Hessian eigenvalue ratio (scaled) below -> ambiguous
-  // Between plateau_ratio and ambiguity_ratio a direction has a gradient, only a weak one (the
-  // o2ac panel's slide along its flange, held by hole walls alone): ambiguous unless the block
-  // jackknife pins the pose within max_sigma_mm / max_sigma_deg, i.e. more than one region of
-  // the scan holds it. Below plateau_ratio the pose sits on a plateau, where the jackknife's
-  // blocks cannot move it either (panel poses 1 mm off had sigma 1.4 um): always ambiguous.
-  double plateau_ratio = 1e-4;
   // DoFs the task declares weak for this reference (its frame, unit; a needle's spin about its
   // shaft, a plug's slide along itself): ambiguous about them below the looser ratio. Just above
   // ambiguity_ratio (1.4e-3 to 3.5e-3) a needle's spin came back `ok` up to 1 deg off and a
