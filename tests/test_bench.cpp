@@ -204,20 +204,25 @@ TEST(Bench, ShardsMergedEqualOneRunAndAnInterruptedRunResumes) {
 // An unsuccessful record whose target left fewer than kMinVisiblePoints in the scan counts as
 // "not visible"; a visible miss, a success, or a record without the count (older runs) does not.
 TEST(Bench, UnsuccessfulRecordsOfAbsentTargetsAreCountedApart) {
-  auto rec = [](bool success, long visible) {
+  auto rec = [](bool success, long visible, int determinable = -1) {
     io::Json r = {{"success", success}, {"false_accept", false}, {"status", success ? "ok" : "failed"},
                   {"expect", "pose"}, {"t_err_um", 1.0}, {"r_err_deg", 0.01},
                   {"timing", {{"time_s", 0.1}, {"peak_rss_mb", 10.0}}}};
     if (visible >= 0) r["visible_points"] = visible;
+    if (determinable >= 0) r["determinable"] = determinable == 1;
     return r;
   };
-  const std::vector<io::Json> rs = {rec(false, bench::kMinVisiblePoints - 1), rec(false, bench::kMinVisiblePoints),
-                                    rec(true, 3), rec(false, -1), rec(false, 0)};
+  const std::vector<io::Json> rs = {rec(false, bench::kMinVisiblePoints - 1, 0), rec(false, bench::kMinVisiblePoints, 1),
+                                    rec(true, 3, 1), rec(false, -1), rec(false, 0, 0)};
   std::vector<const io::Json*> ptr;
   for (const auto& r : rs) ptr.push_back(&r);
   const auto g = bench::group_stats(ptr);
   EXPECT_EQ(g.not_visible, 2);
   EXPECT_EQ(g.failed, 4);
+  // Determinable: the two marked so and the record without the field (an older run): 1 of 3.
+  EXPECT_EQ(g.determinable, 3);
+  EXPECT_EQ(g.determinable_successes, 1);
+  EXPECT_NEAR(g.determinable_success_rate(), 1.0 / 3, 1e-12);
 }
 
 TEST(Bench, DatasetIsByteIdenticalAndGivesTheSameRecordsAsMemory) {
@@ -235,6 +240,12 @@ TEST(Bench, DatasetIsByteIdenticalAndGivesTheSameRecordsAsMemory) {
   bench::run_benchmark(b, quiet_run(dir / "memory"));
   EXPECT_EQ(without_timing(bench::read_results(dir / "disk/results.jsonl")),
             without_timing(bench::read_results(dir / "memory/results.jsonl")));
+  // The receptacle is in full view: refined from its true pose it is `ok` within the benchmark's
+  // tolerance (50 um, 0.5 deg), so every record says its pose is determinable.
+  for (const auto& r : bench::read_results(dir / "disk/results.jsonl")) {
+    EXPECT_TRUE(r.at("determinable").get<bool>()) << r.dump();
+    EXPECT_EQ(r.at("at_truth").at("status"), "ok") << r.dump();
+  }
 
   // One flipped byte in a scan: verification and the runner both name the file.
   std::string scan = test::read_bytes(dir / "d2/scans/1.pcd");

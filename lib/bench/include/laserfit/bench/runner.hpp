@@ -43,20 +43,27 @@ void write_results(const std::string& dir, const std::vector<io::Json>& records,
 // The figures of a group of records: success, false accepts, ambiguous and failed counts, the
 // errors of the poses returned (status not failed, a pose expected), time and peak memory.
 // A target with fewer labelled scan points than the thin-part detector's smallest candidate
-// cannot be registered by any method: "not visible".
+// cannot be registered by any method: "not visible". A record whose scan does not determine the
+// pose (see "determinable") is a miss for the success rate, and counted apart as well.
 inline const long kMinVisiblePoints = registration::ThinSettings{}.min_points;
 struct GroupStats {
   size_t records = 0;
   int successes = 0, false_accepts = 0, ambiguous = 0, failed = 0;
   int not_visible = 0;                  // unsuccessful with the target (nearly) absent from the scan
+  // Records whose scan determines the pose (refined from the truth, the default method succeeds;
+  // records of older runs without the check count as determinable) and their successes.
+  int determinable = 0, determinable_successes = 0;
   double t_median_um = 0, t_p95_um = 0, r_median_deg = 0, r_p95_deg = 0;
   double time_median_s = 0, time_p95_s = 0, peak_rss_mb = 0;
   double success_rate() const { return records ? double(successes) / double(records) : 0; }
+  double determinable_success_rate() const {
+    return determinable ? double(determinable_successes) / double(determinable) : 0;
+  }
 };
 GroupStats group_stats(const std::vector<const io::Json*>& records);
 
 // Per (method, scene, object) and per method overall: success rate, false accepts, ambiguous,
-// failed, not visible, median / p95 errors over the poses returned (status not failed), time, peak memory.
+// failed, not visible, determinable records and their success rate, median / p95 errors over the poses returned (status not failed), time, peak memory.
 std::string summary_csv(const std::vector<io::Json>& records);
 
 }  // namespace laserfit::bench
