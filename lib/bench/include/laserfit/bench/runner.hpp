@@ -63,7 +63,8 @@ struct GroupStats {
 GroupStats group_stats(const std::vector<const io::Json*>& records);
 
 // Per (method, scene, object) and per method overall: success rate, false accepts, ambiguous,
-// failed, not visible, determinable records and their success rate, median / p95 errors over the poses returned (status not failed), time, peak memory.
+// failed, not visible, determinable records and their success rate, median / p95 errors over
+// the poses returned (status not failed), time, peak memory.
 std::string summary_csv(const std::vector<io::Json>& records);
 
 }  // namespace laserfit::bench
