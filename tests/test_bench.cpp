@@ -10,6 +10,7 @@
 #include "laserfit/bench/runner.hpp"
 #include "laserfit/bench/tune.hpp"
 #include "laserfit/core/error.hpp"
+#include "laserfit/io/json.hpp"
 #include "laserfit/registration/thresholds.hpp"
 #include "test_util.hpp"
 
@@ -109,6 +110,49 @@ TEST(Bench, GridTrialsAreDeterministicAndShardsPartitionThem) {
   for (int o : owner) EXPECT_GE(o, 0);  // every trial in exactly one shard
   EXPECT_THROW(bench::parse_shard("4/4"), Error);
   EXPECT_THROW(bench::parse_shard("1-4"), Error);
+  // --scenes: by name, in the order given; an unknown name is an error naming the file.
+  EXPECT_EQ(bench::scene_indices(b, {}), (std::vector<int>{0, 1}));
+  EXPECT_EQ(bench::scene_indices(b, {"b"}), (std::vector<int>{1}));
+  try {
+    bench::scene_indices(b, {"c"});
+    ADD_FAILURE() << "unknown scene accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("g.yaml"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'c'"), std::string::npos) << e.what();
+  }
+}
+
+// The true pose turns about the pivot: about the object's origin, the origin stays within
+// translation_mm of its nominal place; about the seen part, the seen part's centroid does
+// (tolerance 1e-6 mm on top: the poses are stored as doubles in JSON).
+TEST(Bench, PerturbationsTurnAboutTheChosenPivot) {
+  test::TempDir dir;
+  tiny_benchmark(dir);  // writes scene.yaml
+  for (const std::string pivot : {"origin", "view"}) {
+    test::write_text(dir / "p.yaml", "name: p\nseed: 5\nmode: random\ntrials: 4\n"
+                     "conditions: {rotation_deg: 30, translation_mm: 0.5}\n"
+                     "scenes:\n  - name: usb\n    scene: scene.yaml\n    targets:\n"
+                     "      - {object: usb_a_receptacle, reference_points: 5000, pivot: " + pivot + "}\n");
+    const auto b = bench::load_benchmark(dir / "p.yaml");
+    const std::string out = dir / ("d_" + pivot);
+    bench::generate_dataset(b, out, 2, {}, {"usb"});
+    double origin_moved = 0, rotated = 0;
+    for (int i = 0; i < 4; ++i) {
+      const std::string gt = out + "/gt/" + std::to_string(i) + ".json";
+      const auto t = io::read_json(gt).at("targets").at(0);
+      const Pose truth = io::pose_from_json(t.at("T_scan_object"), gt), nominal = io::pose_from_json(t.at("prior"), gt);
+      const auto pv = t.at("pivot_mm").get<std::vector<double>>();
+      const Eigen::Vector3d c(pv[0], pv[1], pv[2]);
+      EXPECT_EQ(c.isZero(), pivot == "origin") << c.transpose();
+      EXPECT_LE((truth * c - nominal * c).norm(), 0.5 + 1e-6) << pivot << " trial " << i;
+      origin_moved = std::max(origin_moved, (truth.translation() - nominal.translation()).norm());
+      rotated = std::max(rotated, Eigen::AngleAxisd(nominal.rotation().transpose() * truth.rotation()).angle());
+    }
+    EXPECT_GT(rotated, 10 * M_PI / 180);  // the draws do turn the part
+    if (pivot == "view") {
+      EXPECT_GT(origin_moved, 0.5) << "the seen part's centroid is away from the origin";
+    }
+  }
 }
 
 TEST(Bench, ThresholdsRoundTripAndAreValidated) {

@@ -1,6 +1,7 @@
 // laserfit bench <benchmark.yaml> [--methods a,b] [--shard i/N] [--out DIR] [--jobs J] ...
 // laserfit bench generate <benchmark.yaml> [-o datasets/<name>]   (scans + ground truth + manifest)
 // laserfit bench merge DIR... -o OUT                                (shards -> one run)
+#include <algorithm>
 #include <map>
 #include <thread>
 
@@ -13,7 +14,7 @@ namespace laserfit::cli {
 namespace {
 
 struct Options {
-  std::string file, methods, shard = "0/1", out, dataset, thresholds, repetitions;
+  std::string file, methods, shard = "0/1", out, dataset, thresholds, repetitions, scenes;
   int jobs = 0;
   bool json = false, no_overlays = false, quiet = false, list = false;
   std::string gen_file, gen_out;
@@ -49,7 +50,8 @@ int run(const Options& o, CLI::App* gen, CLI::App* merge) {
       return 0;
     }
     const auto s = bench::generate_dataset(b, dir, jobs_or_default(o.jobs),
-                                           o.repetitions.empty() ? std::vector<int>{} : parse_range(o.repetitions, "--repetitions"));
+                                           o.repetitions.empty() ? std::vector<int>{} : parse_range(o.repetitions, "--repetitions"),
+                                           split(o.scenes));
     emit(o.json, {{"dataset", dir}, {"trials", s.trials}, {"bytes", s.bytes}, {"wall_s", s.wall_s}, {"seed", b.seed}},
          "wrote " + std::to_string(s.trials) + " trials (" + std::to_string(s.bytes >> 20) + " MiB) to " + dir +
              " (seed " + std::to_string(b.seed) + ")\n");
@@ -60,10 +62,12 @@ int run(const Options& o, CLI::App* gen, CLI::App* merge) {
   if (o.list) {  // check the file and say what a run would do
     const auto trials = bench::enumerate_trials(b);
     const auto shard = bench::parse_shard(o.shard);
+    const auto wanted = bench::scene_indices(b, split(o.scenes));
     std::map<std::string, int> per_scene;
     int mine = 0;
     for (const auto& t : trials)
-      if (shard.contains(t)) ++mine, ++per_scene[b.scenes[t.scene].name];
+      if (shard.contains(t) && std::find(wanted.begin(), wanted.end(), t.scene) != wanted.end())
+        ++mine, ++per_scene[b.scenes[t.scene].name];
     io::Json j = {{"benchmark", b.name}, {"seed", b.seed}, {"mode", b.mode}, {"trials_total", trials.size()},
                   {"shard", shard.text()}, {"trials", mine}, {"per_scene", per_scene}, {"methods", b.methods}};
     std::ostringstream h;
@@ -84,6 +88,7 @@ int run(const Options& o, CLI::App* gen, CLI::App* merge) {
   s.thresholds_file = o.thresholds;
   s.jobs = jobs_or_default(o.jobs);
   if (!o.repetitions.empty()) s.only_repetitions = parse_range(o.repetitions, "--repetitions");
+  s.only_scenes = split(o.scenes);
   s.overlays = !o.no_overlays;
   s.progress = !o.quiet;
   const auto r = bench::run_benchmark(b, s);
@@ -115,6 +120,7 @@ Command add_bench(CLI::App& root) {
   app->add_option("--dataset", o->dataset, "read scans from a generated dataset instead of simulating them");
   app->add_option("--thresholds", o->thresholds, "tuned thresholds (laserfit tune) on top of each method");
   app->add_option("--repetitions", o->repetitions, "only repetitions a:b of every cell (as tuning splits)");
+  app->add_option("--scenes", o->scenes, "comma-separated: only these scenes (same trials and seeds as in a full run)");
   app->add_flag("--no-overlays", o->no_overlays, "do not write overlay clouds of each scene's first trial");
   app->add_flag("--quiet", o->quiet, "no progress on stderr");
   app->add_flag("--list", o->list, "check the benchmark file and print its trials per scene; run nothing");
@@ -124,6 +130,7 @@ Command add_bench(CLI::App& root) {
   gen->add_option("-o,--out", o->gen_out, "dataset directory (default datasets/<name>)");
   gen->add_option("--jobs", o->jobs, "trials in parallel (the bytes do not depend on it)");
   gen->add_option("--repetitions", o->repetitions, "only repetitions a:b of every cell");
+  gen->add_option("--scenes", o->scenes, "comma-separated: only these scenes");
   gen->add_flag("--verify", o->verify, "only check an existing dataset against its manifest");
   gen->add_flag("--json", o->json, "machine-readable summary on stdout");
   auto* merge = app->add_subcommand("merge", "Combine the result directories of shards 0..N-1 into one run");

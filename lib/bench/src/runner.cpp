@@ -33,6 +33,7 @@ io::Json run_header(const Benchmark& b, const RunSettings& s, const std::vector<
           {"methods", methods},
           {"shard", s.shard.text()},
           {"repetitions", s.only_repetitions},
+          {"scenes", s.only_scenes},
           {"thresholds", s.thresholds_file.empty() ? "" : hex32(crc32_file(s.thresholds_file))},
           {"trials_total", enumerate_trials(b).size()}};
 }
@@ -103,8 +104,10 @@ RunSummary run_benchmark(const Benchmark& b, const RunSettings& s) {
   std::vector<Trial> pending;
   size_t mine = 0;
   const std::set<int> reps(s.only_repetitions.begin(), s.only_repetitions.end());
+  const auto scene_list = scene_indices(b, s.only_scenes);
+  const std::set<int> in_scenes(scene_list.begin(), scene_list.end());
   for (const auto& t : enumerate_trials(b)) {
-    if (!s.shard.contains(t) || (!reps.empty() && !reps.count(t.repetition))) continue;
+    if (!s.shard.contains(t) || (!reps.empty() && !reps.count(t.repetition)) || !in_scenes.count(t.scene)) continue;
     ++mine;
     if (!done.count(t.index)) pending.push_back(t);
   }

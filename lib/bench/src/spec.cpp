@@ -47,7 +47,7 @@ void check_axis(const YamlReader& R, const std::string& name, double v) {
 Target read_target(const YamlReader& R, const YAML::Node& t, const std::string& where,
                    const std::filesystem::path& dir) {
   R.only(t, where, {"object", "symmetry", "voxel_mm", "reference", "reference_mesh", "reference_points", "expect",
-                   "weak_rotation", "weak_translation"});
+                   "weak_rotation", "weak_translation", "pivot"});
   Target tg;
   R.need(t, "object", where);
   tg.object = R.str(t, "object", "", where);
@@ -65,6 +65,8 @@ Target read_target(const YamlReader& R, const YAML::Node& t, const std::string& 
   const std::string expect = R.str(t, "expect", "pose", where);
   if (expect != "pose" && expect != "failure") R.fail(where + ".expect", "must be pose or failure");
   tg.expect_failure = expect == "failure";
+  tg.pivot = R.str(t, "pivot", "origin", where);
+  if (tg.pivot != "origin" && tg.pivot != "view") R.fail(where + ".pivot", "must be origin or view");
   for (const char* key : {"weak_rotation", "weak_translation"}) {
     if (!t[key]) continue;
     const std::string a = R.str(t, key, "", where);
@@ -139,6 +141,21 @@ Benchmark load_benchmark(const std::string& path) {
   bytes << in.rdbuf();
   b.digest = crc32(bytes.str());
   return b;
+}
+
+std::vector<int> scene_indices(const Benchmark& b, const std::vector<std::string>& names) {
+  std::vector<int> idx;
+  std::string known;
+  for (const auto& sc : b.scenes) known += (known.empty() ? "" : ", ") + sc.name;
+  for (size_t i = 0; i < b.scenes.size(); ++i)
+    if (names.empty()) idx.push_back(int(i));
+  for (const auto& n : names) {
+    size_t i = 0;
+    while (i < b.scenes.size() && b.scenes[i].name != n) ++i;
+    if (i == b.scenes.size()) throw Error(b.file, "no scene named '" + n + "' (scenes: " + known + ")");
+    idx.push_back(int(i));
+  }
+  return idx;
 }
 
 }  // namespace laserfit::bench

@@ -56,9 +56,11 @@ Shard parse_shard(const std::string& text) {
 
 namespace {
 
-// `nominal` rotated by up to `deg` about a uniform random axis and moved up to `mm` (uniform in
-// a ball); angle uniform in [0, deg].
-Pose perturbed(const Pose& nominal, double deg, double mm, std::mt19937_64& g) {
+// `nominal` rotated by up to `deg` about a uniform random axis through `pivot` (object frame) and
+// moved up to `mm` (uniform in a ball); angle uniform in [0, deg]. The pivot's point of the
+// object ends within `mm` of its nominal place.
+Pose perturbed(const Pose& nominal, double deg, double mm, std::mt19937_64& g,
+               const Eigen::Vector3d& pivot = Eigen::Vector3d::Zero()) {
   auto unit_ball = [&] {
     Eigen::Vector3d v;
     do v = Eigen::Vector3d(uniform01(g), uniform01(g), uniform01(g)) * 2 - Eigen::Vector3d::Ones();
@@ -70,7 +72,7 @@ Pose perturbed(const Pose& nominal, double deg, double mm, std::mt19937_64& g) {
   const Eigen::Vector3d t = unit_ball() * std::max(0.0, mm);
   Pose T = nominal;
   T.linear() = nominal.rotation() * Eigen::AngleAxisd(angle, axis).toRotationMatrix();
-  T.translation() += t;
+  T.translation() = nominal * pivot + t - T.linear() * pivot;
   return T;
 }
 
@@ -98,6 +100,16 @@ PreparedScene prepare_scene(const Benchmark& b, int scene) {
     }
     p.object.push_back(idx);
     p.model.push_back(o.mesh.vertices);
+    Eigen::Vector3d pivot = Eigen::Vector3d::Zero();
+    if (t.pivot == "view") {  // the seen part of the object's own mesh, whatever the reference
+      const PointCloud seen = t.reference == "view" && t.reference_mesh.empty()
+                                  ? p.reference.back()
+                                  : scan::view_reference(o.mesh, o.T_base_object, p.scene.settings, 20000, b.seed);
+      if (seen.points.empty()) throw Error(b.file, "pivot: view: the nominal sweep sees nothing of '" + t.object + "'");
+      for (const auto& q : seen.points) pivot += q.cast<double>();
+      pivot /= double(seen.points.size());
+    }
+    p.pivot.push_back(pivot);
   }
   return p;
 }
@@ -122,9 +134,10 @@ TrialInput simulate_trial(const Benchmark& b, const PreparedScene& p, const Tria
   // curve over an axis compares like with like (a paired design).
   std::mt19937_64 g = block_rng(b.seed, 1000 + uint64_t(t.scene), uint64_t(t.repetition));
   std::vector<Pose> nominal;
-  for (int idx : p.object) {
-    nominal.push_back(s.objects[idx].T_base_object);
-    s.objects[idx].T_base_object = perturbed(s.objects[idx].T_base_object, c.rotation_deg, c.translation_mm, g);
+  for (size_t k = 0; k < p.object.size(); ++k) {
+    Pose& T = s.objects[p.object[k]].T_base_object;
+    nominal.push_back(T);
+    T = perturbed(T, c.rotation_deg, c.translation_mm, g, p.pivot[k]);
   }
   const scan::ScanResult r = scan::simulate_scan(s);
   TrialInput in;
@@ -149,6 +162,8 @@ io::Json input_json(const Benchmark& b, const PreparedScene& p, const Trial& t, 
                        {"label", p.object[k]},  // scan label of its points
                        {"reference", "refs/" + sc.name + "_" + sc.targets[k].object + ".pcd"},
                        {"symmetry", sc.targets[k].symmetry.describe()},
+                       {"pivot", sc.targets[k].pivot},
+                       {"pivot_mm", {p.pivot[k].x(), p.pivot[k].y(), p.pivot[k].z()}},
                        {"voxel_mm", sc.targets[k].voxel_mm},
                        {"expect", sc.targets[k].expect_failure ? "failure" : "pose"},
                        {"T_scan_object", io::pose_to_json(in.truth[k])},

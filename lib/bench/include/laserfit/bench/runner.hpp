@@ -21,6 +21,7 @@ struct RunSettings {
   std::string thresholds_file;          // non-empty: tuned thresholds on top of each method
   int jobs = 1;                         // trials in parallel (1: per-trial peak memory)
   std::vector<int> only_repetitions;    // non-empty: only these repetitions (tuning splits)
+  std::vector<std::string> only_scenes; // non-empty: only these scenes (by name)
   bool overlays = true;                 // first trial of each scene: overlay clouds
   bool progress = true;                 // progress on stderr (a bar on a terminal)
 };

@@ -21,6 +21,11 @@ struct Target {
   std::string reference_mesh;      // another CAD file as the reference (a wrong-object trial)
   size_t reference_points = 60000;
   bool expect_failure = false;     // success = not `ok` (wrong object: must be rejected)
+  // The point the true pose is rotated about (Conditions::rotation_deg). origin: the object
+  // frame's origin. view: the centroid of what the nominal sweep sees of the object, so that the
+  // seen part moves by at most translation_mm whatever the rotation; with a CAD origin far from
+  // the seen part (a plate's corner), rotating about the origin sweeps the part out of view.
+  std::string pivot = "origin";
   // Degrees of freedom the view cannot fix, object frame: a nearly symmetric rotation (a needle's
   // spin about its shaft: only the eye breaks the symmetry) and a translation (a peg seen from
   // the side: its tip faces away). An `ambiguous` result that names one of them as unobservable
@@ -63,5 +68,9 @@ struct Benchmark {
 };
 
 Benchmark load_benchmark(const std::string& path);  // throws laserfit::Error naming the file
+
+// Indices of the named scenes (all when `names` is empty); an unknown name throws, listing the
+// benchmark's scenes.
+std::vector<int> scene_indices(const Benchmark& b, const std::vector<std::string>& names);
 
 }  // namespace laserfit::bench

@@ -39,6 +39,7 @@ struct PreparedScene {
   std::vector<int> object;             // per target: index into scene.objects
   std::vector<PointCloud> reference;   // per target
   std::vector<std::vector<Eigen::Vector3f>> model;  // per target: mesh vertices (MSSD)
+  std::vector<Eigen::Vector3d> pivot;  // per target: what the true pose turns about (object frame, mm)
 };
 PreparedScene prepare_scene(const Benchmark& b, int scene);
 
