@@ -6,7 +6,9 @@ usage: aggregate.py CHUNK_DIR CAMPAIGN_DIR COMMIT
 CHUNK_DIR holds chunk_K.jsonl, one per `laserfit-controller sim ... --first $((K*100)) --trials
 100 --json --out chunk_K.jsonl` (K = 0, 1, ...; a chunk counts once it has 100 records).
 CAMPAIGN_DIR/trials.jsonl gets every record with "trial" = 100 K + j added, in trial order, and
-CAMPAIGN_DIR/summary.json the aggregate (the fields of the earlier campaigns' summaries).
+CAMPAIGN_DIR/summary.json the aggregate (the fields of the earlier campaigns' summaries; the
+strategy is the records' own; for laser_pose, which also corrects the orientation, the true
+angle to the eye's axis of the inserted threads is added).
 """
 import json, math, os, statistics, sys
 
@@ -37,8 +39,9 @@ for t in T:
     p = pap.setdefault(t['trial'] // 30, {'arm_pair': t['trial'] // 30, 'successes': 0, 'trials': 0})
     p['trials'] += 1
     p['successes'] += t['success']
+S0 = T[0].get('strategy', 'laser')  # the earlier campaigns' summaries: laser, no angle
 S = {'cell': 'cells/needle.yaml', 'thresholds': 'reports/paper/thresholds_needle.yaml', 'seed': 1,
-     'strategy': 'laser', 'commit': commit,
+     'strategy': S0, 'commit': commit,
      'trials': len(T), 'successes': len(ok), 'success_rate': len(ok) / len(T),
      'failures': fail, 'failed_trials': ft,
      'trials_with_a_search_sweep': sum(any(l.startswith('no trusted') and ' mm' in l and 'sweeps' in l
@@ -50,6 +53,7 @@ S = {'cell': 'cells/needle.yaml', 'thresholds': 'reports/paper/thresholds_needle
      'inserted_along_um_abs': mmm([abs(t['lateral_um'][0]) for t in ok]),
      'inserted_depth_um': mmm([t['depth_um'] for t in ok]),
      'all_depth_um': mmm([t['depth_um'] for t in T if t.get('depth_um') is not None]),
+     **({'inserted_angle_deg': mmm([t['angle_deg'] for t in ok])} if S0 == 'laser_pose' else {}),
      'scans_median': float(statistics.median([t['scans'] for t in T])),
      'scans_max': max(t['scans'] for t in T),
      'time_s_median': statistics.median([t['time_s'] for t in T]),
