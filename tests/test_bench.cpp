@@ -71,6 +71,7 @@ TEST(Bench, BadDefinitionsAreErrorsNamingTheFile) {
       {"name: x\n", "missing key 'scenes'"},
       {"name: x\nscenes:\n  - {name: a, scene: s.yaml, targets: [{object: o}]}\n  - {name: a, scene: s.yaml, targets: [{object: o}]}\n", "duplicate"},
       {"name: x\nscenes:\n  - {name: a, scene: s.yaml, targets: [{object: o, weak_rotation: w}]}\n", "weak_rotation"},
+      {"name: x\nscenes:\n  - {name: a, scene: s.yaml, targets: [{object: o, pivot: centre}]}\n", "pivot"},
       {"name: x\ntrials: 0\n" + good.substr(8), "trials"},
       {"[1, 2", "not valid YAML"}};
   for (const auto& [text, what] : cases) {
