@@ -1,7 +1,6 @@
 // laserfit bench <benchmark.yaml> [--methods a,b] [--shard i/N] [--out DIR] [--jobs J] ...
 // laserfit bench generate <benchmark.yaml> [-o datasets/<name>]   (scans + ground truth + manifest)
 // laserfit bench merge DIR... -o OUT                                (shards -> one run)
-#include <algorithm>
 #include <map>
 #include <thread>
 
@@ -62,12 +61,10 @@ int run(const Options& o, CLI::App* gen, CLI::App* merge) {
   if (o.list) {  // check the file and say what a run would do
     const auto trials = bench::enumerate_trials(b);
     const auto shard = bench::parse_shard(o.shard);
-    const auto wanted = bench::scene_indices(b, split(o.scenes));
     std::map<std::string, int> per_scene;
     int mine = 0;
-    for (const auto& t : trials)
-      if (shard.contains(t) && std::find(wanted.begin(), wanted.end(), t.scene) != wanted.end())
-        ++mine, ++per_scene[b.scenes[t.scene].name];
+    for (const auto& t : bench::select_trials(b, {}, split(o.scenes)))
+      if (shard.contains(t)) ++mine, ++per_scene[b.scenes[t.scene].name];
     io::Json j = {{"benchmark", b.name}, {"seed", b.seed}, {"mode", b.mode}, {"trials_total", trials.size()},
                   {"shard", shard.text()}, {"trials", mine}, {"per_scene", per_scene}, {"methods", b.methods}};
     std::ostringstream h;

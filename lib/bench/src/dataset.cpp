@@ -17,12 +17,7 @@ namespace fs = std::filesystem;
 DatasetSummary generate_dataset(const Benchmark& b, const std::string& dir, int jobs,
                                 const std::vector<int>& repetitions, const std::vector<std::string>& scene_names) {
   const auto t0 = std::chrono::steady_clock::now();
-  const auto wanted = scene_indices(b, scene_names);
-  std::vector<Trial> trials;
-  for (const auto& t : enumerate_trials(b))
-    if ((repetitions.empty() || std::find(repetitions.begin(), repetitions.end(), t.repetition) != repetitions.end()) &&
-        std::find(wanted.begin(), wanted.end(), t.scene) != wanted.end())
-      trials.push_back(t);
+  const std::vector<Trial> trials = select_trials(b, repetitions, scene_names);
   fs::create_directories(dir + "/scans");
   fs::create_directories(dir + "/gt");
   std::map<int, PreparedScene> scenes;

@@ -103,11 +103,8 @@ RunSummary run_benchmark(const Benchmark& b, const RunSettings& s) {
 
   std::vector<Trial> pending;
   size_t mine = 0;
-  const std::set<int> reps(s.only_repetitions.begin(), s.only_repetitions.end());
-  const auto scene_list = scene_indices(b, s.only_scenes);
-  const std::set<int> in_scenes(scene_list.begin(), scene_list.end());
-  for (const auto& t : enumerate_trials(b)) {
-    if (!s.shard.contains(t) || (!reps.empty() && !reps.count(t.repetition)) || !in_scenes.count(t.scene)) continue;
+  for (const auto& t : select_trials(b, s.only_repetitions, s.only_scenes)) {
+    if (!s.shard.contains(t)) continue;
     ++mine;
     if (!done.count(t.index)) pending.push_back(t);
   }

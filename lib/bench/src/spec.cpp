@@ -145,10 +145,10 @@ Benchmark load_benchmark(const std::string& path) {
 
 std::vector<int> scene_indices(const Benchmark& b, const std::vector<std::string>& names) {
   std::vector<int> idx;
+  if (names.empty())
+    for (size_t i = 0; i < b.scenes.size(); ++i) idx.push_back(int(i));
   std::string known;
   for (const auto& sc : b.scenes) known += (known.empty() ? "" : ", ") + sc.name;
-  for (size_t i = 0; i < b.scenes.size(); ++i)
-    if (names.empty()) idx.push_back(int(i));
   for (const auto& n : names) {
     size_t i = 0;
     while (i < b.scenes.size() && b.scenes[i].name != n) ++i;

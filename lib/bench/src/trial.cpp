@@ -1,4 +1,5 @@
 // Trials: conditions -> scene -> scan (simulated, or read back from a dataset) -> ground truth.
+#include <algorithm>
 #include <sstream>
 
 #include "laserfit/bench/trial.hpp"
@@ -43,6 +44,17 @@ std::vector<Trial> enumerate_trials(const Benchmark& b) {
         trials.push_back(t);
       }
   return trials;
+}
+
+std::vector<Trial> select_trials(const Benchmark& b, const std::vector<int>& repetitions,
+                                 const std::vector<std::string>& scenes) {
+  const auto wanted = scene_indices(b, scenes);
+  std::vector<Trial> out;
+  for (const auto& t : enumerate_trials(b))
+    if ((repetitions.empty() || std::count(repetitions.begin(), repetitions.end(), t.repetition)) &&
+        std::count(wanted.begin(), wanted.end(), t.scene))
+      out.push_back(t);
+  return out;
 }
 
 Shard parse_shard(const std::string& text) {

@@ -24,6 +24,9 @@ struct Trial {
   uint64_t seed = 0;    // the trial's own seed: perturbation, scan noise, registration
 };
 std::vector<Trial> enumerate_trials(const Benchmark& b);
+// The trials of some repetitions and some scenes (by name; empty: all), in enumerate order.
+std::vector<Trial> select_trials(const Benchmark& b, const std::vector<int>& repetitions,
+                                 const std::vector<std::string>& scenes);
 
 // Shards: trial k belongs to shard k mod n (interleaved, so every shard gets every scene).
 struct Shard {
