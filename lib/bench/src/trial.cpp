@@ -110,6 +110,7 @@ PreparedScene prepare_scene(const Benchmark& b, int scene) {
     } else {  // what the nominal sweep sees of the nominally placed object
       p.reference.push_back(scan::view_reference(mesh, o.T_base_object, p.scene.settings, t.reference_points, b.seed));
     }
+    p.reference_mesh.push_back(mesh);
     p.object.push_back(idx);
     p.model.push_back(o.mesh.vertices);
     Eigen::Vector3d pivot = Eigen::Vector3d::Zero();

@@ -41,6 +41,7 @@ struct PreparedScene {
   scan::ScanScene scene;
   std::vector<int> object;             // per target: index into scene.objects
   std::vector<PointCloud> reference;   // per target
+  std::vector<TriMesh> reference_mesh; // per target: what the reference is sampled from
   std::vector<std::vector<Eigen::Vector3f>> model;  // per target: mesh vertices (MSSD)
   std::vector<Eigen::Vector3d> pivot;  // per target: what the true pose turns about (object frame, mm)
 };
@@ -64,6 +65,16 @@ TrialInput read_trial(const PreparedScene& p, const std::string& scan_pcd, const
 // hypothesis, the named refiner), with tuned thresholds on top when given.
 registration::RegistrationSettings method_settings(const std::string& method, const Target& target,
                                                    const registration::Thresholds* thresholds);
+
+// Can this scan determine target k's pose at all? The default method refined from the true pose,
+// against what the scanner sees of the part there (see evaluate.cpp): when even that is no success
+// by the benchmark's rule, no method can answer `ok` and be right.
+struct AtTruth {
+  bool determinable = false;
+  std::string status, reason;  // of the refinement from the truth
+};
+AtTruth at_truth(const Benchmark& b, const PreparedScene& p, const Trial& t, const TrialInput& in, size_t k,
+                 const registration::Thresholds* thresholds);
 
 struct TrialOptions {
   std::vector<std::string> methods;
