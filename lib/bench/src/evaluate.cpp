@@ -189,7 +189,13 @@ std::vector<io::Json> run_trial(const Benchmark& b, const PreparedScene& p, cons
       try {
         // Two candidate parts: the points near the prior-placed reference, then the nearest
         // cluster (the CLI default tries four).
-        res = registration::register_segmented(in.scan, p.reference[k], rs, 2);
+        registration::ViewSampler view;
+        if (tg.resample_view && m != "paper")
+          view = [&](const Pose& T_scan_ref) {  // bench scans are in the base frame
+            return scan::view_reference(p.reference_mesh[k], T_scan_ref, p.scene.settings, tg.reference_points,
+                                        b.seed);
+          };
+        res = registration::register_in_view(in.scan, p.reference[k], view, rs, 2);
       } catch (const Error& e) {  // unusable scan for this target: a failure of the trial
         res.status = registration::Status::Failed;
         res.reason = std::string("error: ") + e.what();

@@ -47,7 +47,7 @@ void check_axis(const YamlReader& R, const std::string& name, double v) {
 Target read_target(const YamlReader& R, const YAML::Node& t, const std::string& where,
                    const std::filesystem::path& dir) {
   R.only(t, where, {"object", "symmetry", "voxel_mm", "reference", "reference_mesh", "reference_points", "expect",
-                   "weak_rotation", "weak_translation", "pivot"});
+                   "weak_rotation", "weak_translation", "pivot", "resample_view"});
   Target tg;
   R.need(t, "object", where);
   tg.object = R.str(t, "object", "", where);
@@ -62,6 +62,8 @@ Target read_target(const YamlReader& R, const YAML::Node& t, const std::string& 
   if (tg.reference != "view" && tg.reference != "full") R.fail(where + ".reference", "must be view or full");
   if (t["reference_mesh"]) tg.reference_mesh = (dir / R.str(t, "reference_mesh", "", where)).lexically_normal().string();
   tg.reference_points = size_t(R.integer(t, "reference_points", 60000, where, 100, 10000000));
+  tg.resample_view = R.flag(t, "resample_view", false, where);
+  if (tg.resample_view && tg.reference != "view") R.fail(where + ".resample_view", "needs reference: view");
   const std::string expect = R.str(t, "expect", "pose", where);
   if (expect != "pose" && expect != "failure") R.fail(where + ".expect", "must be pose or failure");
   tg.expect_failure = expect == "failure";

@@ -20,6 +20,9 @@ struct Target {
   std::string reference = "view";  // view: what the nominal sweep sees | full: whole surface
   std::string reference_mesh;      // another CAD file as the reference (a wrong-object trial)
   size_t reference_points = 60000;
+  // view only: after a first pass, register again against the view sampled at the pose found
+  // (registration::register_in_view; every method but `paper`, which is Algorithm 1 as published).
+  bool resample_view = false;
   bool expect_failure = false;     // success = not `ok` (wrong object: must be rejected)
   // The point the true pose is rotated about (Conditions::rotation_deg). origin: the object
   // frame's origin. view: the centroid of what the nominal sweep sees of the object, so that the

@@ -4,6 +4,7 @@
 // refinement variants, with a trust decision (ok / ambiguous / failed) and a covariance.
 // All lengths in mm; T_scan_ref maps reference coordinates into the scan frame.
 #include <Eigen/Core>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -175,6 +176,18 @@ PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& 
 RegistrationResult register_segmented(const PointCloud& scan, const PointCloud& ref,
                                       const RegistrationSettings& settings, int max_clusters = 4,
                                       int* cluster = nullptr);
+
+// What a scanner sees of the part placed at T_scan_ref (a view reference, e.g. scan::view_reference).
+using ViewSampler = std::function<PointCloud(const Pose& T_scan_ref)>;
+// A view reference depends on the pose it is seen at. Sampled at the prior, it shows walls that a
+// part turned away from the prior no longer shows and lacks those it turned toward; a socket
+// turned by 15-20 deg fitted its scan at 8-24 um RMS instead of 2.5 um, and RANSAC, matching
+// FPFH of the other view, never confirmed the right pose (registration.yaml's receptacle
+// repetitions 70 and 144). register_segmented with `ref`, then, when that found a pose, once more
+// with `view` sampled at it (that pose as the prior); the second answer is kept unless it failed
+// where the first did not. Thin parts are detected, not registered: one pass.
+RegistrationResult register_in_view(const PointCloud& scan, const PointCloud& ref, const ViewSampler& view,
+                                    const RegistrationSettings& settings, int max_clusters = 4);
 
 // Does `ref` go to the thin-part detector (settings.thin.mode, and for auto its thin_profile)?
 // register_cloud and register_segmented dispatch there themselves.
