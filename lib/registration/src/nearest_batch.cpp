@@ -1,51 +1,157 @@
-// Batched nearest-neighbour queries on a Tree's input cloud with FLANN's single kd-tree (the index
-// PCL builds, leaf size 15), queried once for all points instead of once per point.
+// Tree's searches straight on FLANN's single kd-tree (the index PCL builds, leaf size 15), without
+// flann::Index's OpenMP region per call; batched nearest-neighbour and within-radius queries.
 #include <flann/flann.hpp>
 
 #include "pcl_types.hpp"
 
 namespace laserfit::registration {
 
-struct Tree::Batch {
+struct Tree::Direct {
   std::vector<float> xyz;  // the finite input points, 3 floats each (FLANN keeps a pointer to it)
   std::vector<int> id;     // their indices in the input cloud
-  std::unique_ptr<flann::Index<flann::L2_Simple<float>>> index;
+  std::unique_ptr<flann::KDTreeSingleIndex<flann::L2_Simple<float>>> index;
 };
 
-void Tree::nearest_batch(const std::vector<Eigen::Vector3f>& queries, std::vector<int>& idx,
-                         std::vector<float>& d2) const {
-  // Built on first use (thread-safe): most trees only serve PCL's own searches.
-  std::call_once(batch_once_, [this] {
-    auto b = std::make_shared<Batch>();
+void Tree::setInputCloud(const PointCloudConstPtr& cloud, const IndicesConstPtr& indices) {
+  pcl::search::KdTree<PointT>::setInputCloud(cloud, indices);
+  direct_.reset();
+  once_ = std::make_unique<std::once_flag>();  // searches never run concurrently with this
+}
+
+const Tree::Direct* Tree::direct() const {
+  std::call_once(*once_, [this] {
+    const auto& in = getIndices();
+    if (in && !in->empty()) return;  // a subset: PCL's own path maps it
+    auto b = std::make_shared<Direct>();
     const auto& cloud = *getInputCloud();
     b->xyz.reserve(3 * cloud.size());
     for (size_t i = 0; i < cloud.size(); ++i)
       if (cloud[i].getVector3fMap().allFinite())
         b->xyz.insert(b->xyz.end(), {cloud[i].x, cloud[i].y, cloud[i].z}), b->id.push_back(int(i));
     if (!b->id.empty()) {
-      b->index = std::make_unique<flann::Index<flann::L2_Simple<float>>>(
+      b->index = std::make_unique<flann::KDTreeSingleIndex<flann::L2_Simple<float>>>(
           flann::Matrix<float>(b->xyz.data(), b->id.size(), 3), flann::KDTreeSingleIndexParams(15));
       b->index->buildIndex();
     }
-    batch_ = std::move(b);
+    direct_ = std::move(b);
   });
+  return direct_.get();
+}
+
+int Tree::nearestKSearch(const PointT& p, int k, pcl::Indices& idx, std::vector<float>& d2) const {
+  if (!p.getVector3fMap().allFinite()) {
+    idx.assign(1, 0);
+    d2.assign(1, std::numeric_limits<float>::infinity());
+    return 1;
+  }
+  const Direct* b = direct();
+  if (!b || !b->index || k <= 0) return pcl::search::KdTree<PointT>::nearestKSearch(p, k, idx, d2);
+  // As KdTreeFLANN::nearestKSearch and NNIndex::knnSearch: k capped at the size, sorted, the heap
+  // result set above FLANN's threshold.
+  const size_t kk = std::min(size_t(k), b->id.size());
+  flann::SearchParams sp(-1, getEpsilon());
+  std::vector<size_t> found(kk);
+  d2.resize(kk);
+  const float q[3] = {p.x, p.y, p.z};
+  size_t n = 0;
+  if (kk > size_t(KNN_HEAP_THRESHOLD)) {  // FLANN's macro (nn_index.h)
+    flann::KNNResultSet2<float> rs(kk);
+    b->index->findNeighbors(rs, q, sp);
+    n = std::min(rs.size(), kk);
+    rs.copy(found.data(), d2.data(), n, sp.sorted);
+  } else {
+    flann::KNNSimpleResultSet<float> rs(kk);
+    b->index->findNeighbors(rs, q, sp);
+    n = std::min(rs.size(), kk);
+    rs.copy(found.data(), d2.data(), n, sp.sorted);
+  }
+  idx.resize(kk);
+  for (size_t i = 0; i < n; ++i) idx[i] = b->id[found[i]];
+  return int(kk);
+}
+
+int Tree::radiusSearch(const PointT& p, double radius, pcl::Indices& idx, std::vector<float>& d2,
+                       unsigned int max_nn) const {
+  if (!p.getVector3fMap().allFinite()) {
+    idx.clear(), d2.clear();
+    return 0;
+  }
+  const Direct* b = direct();
+  if (!b || !b->index) return pcl::search::KdTree<PointT>::radiusSearch(p, radius, idx, d2, max_nn);
+  // As KdTreeFLANN::radiusSearch and NNIndex::radiusSearch: all neighbours unless max_nn is below
+  // the size, squared radius in float, sorted as the tree was asked to.
+  const size_t total = b->id.size();
+  flann::SearchParams sp(-1, getEpsilon(), sorted_results_);
+  const float r2 = static_cast<float>(radius * radius);
+  const float q[3] = {p.x, p.y, p.z};
+  std::vector<size_t> found;
+  size_t n = 0;
+  if (max_nn == 0 || max_nn >= total) {
+    flann::RadiusResultSet<float> rs(r2);
+    b->index->findNeighbors(rs, q, sp);
+    n = rs.size();
+    found.resize(n), d2.resize(n);
+    if (n > 0) rs.copy(found.data(), d2.data(), n, sp.sorted);
+  } else {
+    flann::KNNRadiusResultSet<float> rs(r2, max_nn);
+    b->index->findNeighbors(rs, q, sp);
+    n = std::min(rs.size(), size_t(max_nn));
+    found.resize(n), d2.resize(n);
+    if (n > 0) rs.copy(found.data(), d2.data(), n, sp.sorted);
+  }
+  idx.resize(n);
+  for (size_t i = 0; i < n; ++i) idx[i] = b->id[found[i]];
+  return int(n);
+}
+
+void Tree::nearest_batch(const std::vector<Eigen::Vector3f>& queries, std::vector<int>& idx,
+                         std::vector<float>& d2) const {
   idx.assign(queries.size(), -1);
   d2.assign(queries.size(), std::numeric_limits<float>::infinity());
-  if (!batch_->index || queries.empty()) return;
+  const Direct* b = direct();
+  if (!b || !b->index || queries.empty()) return;
   std::vector<float> q;
   std::vector<size_t> at;  // finite queries only: FLANN asserts on NaN
   q.reserve(3 * queries.size());
   for (size_t i = 0; i < queries.size(); ++i)
     if (queries[i].allFinite()) q.insert(q.end(), {queries[i].x(), queries[i].y(), queries[i].z()}), at.push_back(i);
   if (at.empty()) return;
-  std::vector<int> found(at.size());
+  std::vector<size_t> found(at.size());
   std::vector<float> dist(at.size());
-  flann::Matrix<int> fi(found.data(), at.size(), 1);
+  flann::Matrix<size_t> fi(found.data(), at.size(), 1);
   flann::Matrix<float> fd(dist.data(), at.size(), 1);
   flann::SearchParams sp(-1, 0.0f);  // exact search, as PCL's tree
   sp.cores = 1;                      // callers parallelise over registrations, not queries
-  batch_->index->knnSearch(flann::Matrix<float>(q.data(), at.size(), 3), fi, fd, 1, sp);
-  for (size_t k = 0; k < at.size(); ++k) idx[at[k]] = batch_->id[found[k]], d2[at[k]] = dist[k];
+  b->index->knnSearch(flann::Matrix<float>(q.data(), at.size(), 3), fi, fd, 1, sp);
+  for (size_t k = 0; k < at.size(); ++k) idx[at[k]] = b->id[found[k]], d2[at[k]] = dist[k];
+}
+
+std::vector<char> within_radius(const std::vector<Eigen::Vector3f>& points, const std::vector<Eigen::Vector3f>& queries,
+                                double radius) {
+  std::vector<char> near(queries.size(), 0);
+  std::vector<float> xyz, q;
+  xyz.reserve(3 * points.size());
+  for (const auto& p : points)
+    if (p.allFinite()) xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
+  std::vector<size_t> at;
+  for (size_t i = 0; i < queries.size(); ++i)
+    if (queries[i].allFinite()) q.insert(q.end(), {queries[i].x(), queries[i].y(), queries[i].z()}), at.push_back(i);
+  if (xyz.empty() || at.empty() || !(radius > 0)) return near;
+  flann::KDTreeSingleIndex<flann::L2_Simple<float>> index(flann::Matrix<float>(xyz.data(), xyz.size() / 3, 3),
+                                                          flann::KDTreeSingleIndexParams(15));
+  index.buildIndex();
+  std::vector<size_t> found(at.size());
+  std::vector<float> dist(at.size());
+  flann::Matrix<size_t> fi(found.data(), at.size(), 1);
+  flann::Matrix<float> fd(dist.data(), at.size(), 1);
+  // At most one neighbour inside the radius: far queries are pruned at the radius, not searched
+  // down to their nearest point (most scan points are far from the part). FLANN's L2 is squared.
+  flann::SearchParams sp(-1, 0.0f);
+  sp.max_neighbors = 1, sp.cores = 1;
+  const float r2 = float(radius * radius);
+  index.radiusSearch(flann::Matrix<float>(q.data(), at.size(), 3), fi, fd, r2, sp);
+  for (size_t k = 0; k < at.size(); ++k) near[at[k]] = dist[k] <= r2;
+  return near;
 }
 
 }  // namespace laserfit::registration

@@ -18,31 +18,37 @@ using PointT = pcl::PointNormal;
 using PclCloud = pcl::PointCloud<PointT>;
 // PCL's kd-tree library is built with assertions: a non-finite query (a PCL ICP whose estimate
 // went NaN on degenerate data) aborts the process. This tree answers such a query with one
-// infinitely distant neighbour instead, which every correspondence gate then rejects.
+// infinitely distant neighbour instead (no neighbour within a radius), which every correspondence
+// gate then rejects.
+// PCL asks FLANN one query at a time through flann::Index, which opens an OpenMP region per call
+// (even for one thread): on this 2-core VM that was half the time of a registration of a 1 M-point
+// scan (segmentation's clustering and normals, FPFH). So the single-point searches go straight to
+// the same FLANN kd-tree (KDTreeSingleIndex, leaf size 15, built on the same finite points in the
+// same order) with the same result sets: the same neighbours in the same order as PCL's path.
 class Tree : public pcl::search::KdTree<PointT> {
  public:
   using Ptr = std::shared_ptr<Tree>;
   using pcl::search::KdTree<PointT>::nearestKSearch;
-  int nearestKSearch(const PointT& p, int k, pcl::Indices& idx, std::vector<float>& d2) const override {
-    if (!p.getVector3fMap().allFinite()) {
-      idx.assign(1, 0);
-      d2.assign(1, std::numeric_limits<float>::infinity());
-      return 1;
-    }
-    return pcl::search::KdTree<PointT>::nearestKSearch(p, k, idx, d2);
-  }
-  // Nearest input point of every query (finite queries only), in one call: PCL asks FLANN one
-  // query at a time, and FLANN opens an OpenMP region per call; at ~10^6 queries per
-  // registration that overhead was most of its run time. idx[i] = -1 when none. Built on first
-  // use for the cloud set then: a Tree is given one input cloud in its life (as everywhere here).
+  using pcl::search::KdTree<PointT>::radiusSearch;
+  void setInputCloud(const PointCloudConstPtr& cloud, const IndicesConstPtr& indices = IndicesConstPtr()) override;
+  int nearestKSearch(const PointT& p, int k, pcl::Indices& idx, std::vector<float>& d2) const override;
+  int radiusSearch(const PointT& p, double radius, pcl::Indices& idx, std::vector<float>& d2,
+                   unsigned int max_nn = 0) const override;
+  // Nearest input point of every query (finite queries only), in one call. idx[i] = -1 when none.
   void nearest_batch(const std::vector<Eigen::Vector3f>& queries, std::vector<int>& idx,
                      std::vector<float>& d2) const;
 
  private:
-  struct Batch;
-  mutable std::shared_ptr<Batch> batch_;
-  mutable std::once_flag batch_once_;
+  struct Direct;
+  const Direct* direct() const;  // built on first use (thread-safe); null when indices were given
+  mutable std::shared_ptr<Direct> direct_;
+  mutable std::unique_ptr<std::once_flag> once_ = std::make_unique<std::once_flag>();
 };
+
+// near[i] = 1 when queries[i] has a point of `points` within `radius` (mm), by one bounded FLANN
+// search over all queries (see nearest_batch); non-finite queries are never near.
+std::vector<char> within_radius(const std::vector<Eigen::Vector3f>& points, const std::vector<Eigen::Vector3f>& queries,
+                                double radius);
 
 // Finite points only (NaN = no measurement); normals copied when present.
 PclCloud::Ptr to_pcl(const PointCloud& c);

@@ -1,0 +1,147 @@
+// The registration's kd-tree (lib/registration/src/pcl_types.hpp) answers PCL's single-point
+// searches on FLANN directly; these must equal PCL's own KdTree exactly (same indices in the same
+// order, bit-equal squared distances), or every registration would change with the speed-up.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "pcl_types.hpp"
+
+using namespace laserfit::registration;
+
+namespace {
+
+PclCloud::Ptr random_cloud(size_t n, uint32_t seed, bool with_nan) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-1.f, 1.f);
+  PclCloud::Ptr c(new PclCloud);
+  for (size_t i = 0; i < n; ++i) {
+    PointT p;
+    p.x = u(rng), p.y = u(rng), p.z = 0.2f * u(rng);  // a slab: many equal-ish distances
+    if (with_nan && i % 97 == 5) p.x = std::numeric_limits<float>::quiet_NaN();
+    c->push_back(p);
+  }
+  c->is_dense = !with_nan;
+  return c;
+}
+
+struct Both {
+  Tree direct;
+  pcl::search::KdTree<PointT> pcl_tree;
+  explicit Both(const PclCloud::Ptr& c, bool sorted = true) : pcl_tree(sorted) {
+    direct.setSortedResults(sorted);
+    direct.setInputCloud(c);
+    pcl_tree.setInputCloud(c);
+  }
+};
+
+PointT query(std::mt19937& rng) {
+  std::uniform_real_distribution<float> u(-1.1f, 1.1f);
+  PointT q;
+  q.x = u(rng), q.y = u(rng), q.z = 0.2f * u(rng);
+  return q;
+}
+
+}  // namespace
+
+TEST(Search, RadiusSearchEqualsPclExactly) {
+  for (bool sorted : {true, false}) {
+    Both t(random_cloud(5000, 1, true), sorted);
+    std::mt19937 rng(2);
+    for (int i = 0; i < 300; ++i) {
+      const PointT q = query(rng);
+      for (double r : {0.0, 0.03, 0.1, 0.4})
+        for (unsigned max_nn : {0u, 1u, 7u, 100000u}) {
+          pcl::Indices a, b;
+          std::vector<float> da, db;
+          const int na = t.direct.radiusSearch(q, r, a, da, max_nn);
+          const int nb = t.pcl_tree.radiusSearch(q, r, b, db, max_nn);
+          ASSERT_EQ(na, nb) << "r " << r << " max_nn " << max_nn;
+          ASSERT_EQ(a, b) << "r " << r << " max_nn " << max_nn << " sorted " << sorted;
+          ASSERT_EQ(da, db);
+        }
+    }
+  }
+}
+
+TEST(Search, NearestKSearchEqualsPclExactly) {
+  Both t(random_cloud(5000, 3, true));
+  std::mt19937 rng(4);
+  for (int i = 0; i < 300; ++i) {
+    const PointT q = query(rng);
+    for (int k : {1, 5, 30, 251, 400}) {  // 251 and 400: FLANN's heap result set (k > 250)
+      pcl::Indices a, b;
+      std::vector<float> da, db;
+      ASSERT_EQ(t.direct.nearestKSearch(q, k, a, da), t.pcl_tree.nearestKSearch(q, k, b, db));
+      ASSERT_EQ(a, b) << "k " << k;
+      ASSERT_EQ(da, db);
+    }
+  }
+  // k above the cloud's size is capped to it, as PCL does.
+  Both small(random_cloud(20, 5, false));
+  pcl::Indices a, b;
+  std::vector<float> da, db;
+  EXPECT_EQ(small.direct.nearestKSearch(query(rng), 50, a, da), 20);
+  EXPECT_EQ(small.pcl_tree.nearestKSearch(query(rng), 50, b, db), 20);
+}
+
+TEST(Search, NonFiniteQueriesFindNothingInsteadOfAborting) {
+  Both t(random_cloud(200, 6, false));
+  PointT q;
+  q.x = std::numeric_limits<float>::quiet_NaN(), q.y = q.z = 0;
+  pcl::Indices idx;
+  std::vector<float> d2;
+  EXPECT_EQ(t.direct.radiusSearch(q, 0.5, idx, d2), 0);
+  EXPECT_TRUE(idx.empty());
+  ASSERT_EQ(t.direct.nearestKSearch(q, 3, idx, d2), 1);
+  EXPECT_TRUE(std::isinf(d2[0]));
+}
+
+TEST(Search, ANewInputCloudIsSearchedNotTheOldOne) {
+  Tree t;
+  t.setInputCloud(random_cloud(500, 7, false));
+  pcl::Indices idx;
+  std::vector<float> d2;
+  PointT q;
+  q.x = q.y = q.z = 0;
+  t.nearestKSearch(q, 1, idx, d2);  // builds the direct index on the first cloud
+  PclCloud::Ptr far(new PclCloud);
+  PointT p;
+  p.x = 10, p.y = p.z = 0;
+  far->push_back(p), far->push_back(p);
+  far->back().x = 20;
+  t.setInputCloud(far);
+  ASSERT_EQ(t.nearestKSearch(q, 1, idx, d2), 1);
+  EXPECT_EQ(idx[0], 0);
+  EXPECT_FLOAT_EQ(d2[0], 100.f);
+}
+
+TEST(Search, BatchedQueriesEqualSinglePointOnes) {
+  const auto c = random_cloud(3000, 8, true);
+  Tree t;
+  t.setInputCloud(c);
+  std::mt19937 rng(9);
+  std::vector<Eigen::Vector3f> qs;
+  for (int i = 0; i < 500; ++i) qs.push_back(query(rng).getVector3fMap());
+  qs.push_back(Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN()));
+  std::vector<int> idx;
+  std::vector<float> d2;
+  t.nearest_batch(qs, idx, d2);
+  std::vector<Eigen::Vector3f> pts;
+  for (const auto& p : *c) pts.push_back(p.getVector3fMap());
+  const double r = 0.02;
+  const auto near = within_radius(pts, qs, r);
+  for (size_t i = 0; i + 1 < qs.size(); ++i) {
+    PointT q;
+    q.getVector3fMap() = qs[i];
+    pcl::Indices one;
+    std::vector<float> d;
+    t.nearestKSearch(q, 1, one, d);
+    ASSERT_EQ(idx[i], one[0]);
+    ASSERT_EQ(d2[i], d[0]);
+    // Within the radius exactly when the nearest point is (strictly, as FLANN's result sets).
+    ASSERT_EQ(bool(near[i]), d[0] < float(r * r)) << i;
+  }
+  EXPECT_EQ(idx.back(), -1);
+  EXPECT_FALSE(near.back());
+}
