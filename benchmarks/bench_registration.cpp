@@ -26,7 +26,8 @@ struct Fixture {
 const Fixture& fixture() {
   static const Fixture f = [] {
     Fixture x;
-    const auto scene = scan::load_scene(std::string(LASERFIT_SOURCE_DIR) + "/datasets/scenes/usb_socket.yaml");
+    const auto scene =
+        scan::load_scene(std::string(LASERFIT_SOURCE_DIR) + "/datasets/scenes/usb_socket.yaml");
     const auto r = scan::simulate_scan(scene);
     // Whole profiles until 1 M valid points: an organized 1 M-point scan.
     const size_t W = size_t(r.cloud.width);
@@ -40,7 +41,8 @@ const Fixture& fixture() {
     const auto& plug = scene.objects[1];
     x.nominal = plug.T_base_object;
     sampling::ViewSettings v;
-    v.T_mesh_sensor.push_back(plug.T_base_object.inverse() * r.T_base_sensor_nominal[r.cloud.height / 2]);
+    v.T_mesh_sensor.push_back(plug.T_base_object.inverse() *
+                              r.T_base_sensor_nominal[r.cloud.height / 2]);
     v.geometry = scene.settings.sensor;
     sampling::SamplingSettings s;
     s.count = 60000;
@@ -75,7 +77,11 @@ void BM_RegisterPlug1M(benchmark::State& st) {
   for (auto _ : st) r = registration::register_segmented(f.scan, f.ref, s);
   report(st, f, r);
 }
-BENCHMARK(BM_RegisterPlug1M)->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK(BM_RegisterPlug1M)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Repetitions(5)
+    ->ReportAggregatesOnly(true);
 
 // Two registrations when the first finds a pose; the view sampling is timed as view_s.
 void BM_RegisterPlug1MInView(benchmark::State& st) {
@@ -88,7 +94,11 @@ void BM_RegisterPlug1MInView(benchmark::State& st) {
   for (auto _ : st) r = registration::register_in_view(f.scan, f.ref, view, s);
   report(st, f, r);
 }
-BENCHMARK(BM_RegisterPlug1MInView)->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK(BM_RegisterPlug1MInView)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Repetitions(5)
+    ->ReportAggregatesOnly(true);
 
 }  // namespace
 

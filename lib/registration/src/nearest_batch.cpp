@@ -6,6 +6,22 @@
 
 namespace laserfit::registration {
 
+namespace {
+
+// The finite points of `pts` as FLANN's rows (3 floats each) and where each came from: FLANN
+// asserts on NaN.
+size_t finite_rows(const std::vector<Eigen::Vector3f>& pts, std::vector<float>& xyz,
+                   std::vector<size_t>& at) {
+  xyz.clear(), at.clear();
+  xyz.reserve(3 * pts.size());
+  for (size_t i = 0; i < pts.size(); ++i)
+    if (pts[i].allFinite())
+      xyz.insert(xyz.end(), {pts[i].x(), pts[i].y(), pts[i].z()}), at.push_back(i);
+  return at.size();
+}
+
+}  // namespace
+
 struct Tree::Direct {
   std::vector<float> xyz;  // the finite input points, 3 floats each (FLANN keeps a pointer to it)
   std::vector<int> id;     // their indices in the input cloud
@@ -111,11 +127,8 @@ void Tree::nearest_batch(const std::vector<Eigen::Vector3f>& queries, std::vecto
   const Direct* b = direct();
   if (!b || !b->index || queries.empty()) return;
   std::vector<float> q;
-  std::vector<size_t> at;  // finite queries only: FLANN asserts on NaN
-  q.reserve(3 * queries.size());
-  for (size_t i = 0; i < queries.size(); ++i)
-    if (queries[i].allFinite()) q.insert(q.end(), {queries[i].x(), queries[i].y(), queries[i].z()}), at.push_back(i);
-  if (at.empty()) return;
+  std::vector<size_t> at;
+  if (finite_rows(queries, q, at) == 0) return;
   std::vector<size_t> found(at.size());
   std::vector<float> dist(at.size());
   flann::Matrix<size_t> fi(found.data(), at.size(), 1);
@@ -126,19 +139,15 @@ void Tree::nearest_batch(const std::vector<Eigen::Vector3f>& queries, std::vecto
   for (size_t k = 0; k < at.size(); ++k) idx[at[k]] = b->id[found[k]], d2[at[k]] = dist[k];
 }
 
-std::vector<char> within_radius(const std::vector<Eigen::Vector3f>& points, const std::vector<Eigen::Vector3f>& queries,
-                                double radius) {
+std::vector<char> within_radius(const std::vector<Eigen::Vector3f>& points,
+                                const std::vector<Eigen::Vector3f>& queries, double radius) {
   std::vector<char> near(queries.size(), 0);
   std::vector<float> xyz, q;
-  xyz.reserve(3 * points.size());
-  for (const auto& p : points)
-    if (p.allFinite()) xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
-  std::vector<size_t> at;
-  for (size_t i = 0; i < queries.size(); ++i)
-    if (queries[i].allFinite()) q.insert(q.end(), {queries[i].x(), queries[i].y(), queries[i].z()}), at.push_back(i);
-  if (xyz.empty() || at.empty() || !(radius > 0)) return near;
-  flann::KDTreeSingleIndex<flann::L2_Simple<float>> index(flann::Matrix<float>(xyz.data(), xyz.size() / 3, 3),
-                                                          flann::KDTreeSingleIndexParams(15));
+  std::vector<size_t> from, at;
+  if (finite_rows(points, xyz, from) == 0 || finite_rows(queries, q, at) == 0 || !(radius > 0))
+    return near;
+  flann::KDTreeSingleIndex<flann::L2_Simple<float>> index(
+      flann::Matrix<float>(xyz.data(), xyz.size() / 3, 3), flann::KDTreeSingleIndexParams(15));
   index.buildIndex();
   std::vector<size_t> found(at.size());
   std::vector<float> dist(at.size());

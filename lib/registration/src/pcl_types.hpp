@@ -30,8 +30,10 @@ class Tree : public pcl::search::KdTree<PointT> {
   using Ptr = std::shared_ptr<Tree>;
   using pcl::search::KdTree<PointT>::nearestKSearch;
   using pcl::search::KdTree<PointT>::radiusSearch;
-  void setInputCloud(const PointCloudConstPtr& cloud, const IndicesConstPtr& indices = IndicesConstPtr()) override;
-  int nearestKSearch(const PointT& p, int k, pcl::Indices& idx, std::vector<float>& d2) const override;
+  void setInputCloud(const PointCloudConstPtr& cloud,
+                     const IndicesConstPtr& indices = IndicesConstPtr()) override;
+  int nearestKSearch(const PointT& p, int k, pcl::Indices& idx,
+                     std::vector<float>& d2) const override;
   int radiusSearch(const PointT& p, double radius, pcl::Indices& idx, std::vector<float>& d2,
                    unsigned int max_nn = 0) const override;
   // Nearest input point of every query (finite queries only), in one call. idx[i] = -1 when none.
@@ -47,8 +49,8 @@ class Tree : public pcl::search::KdTree<PointT> {
 
 // near[i] = 1 when queries[i] has a point of `points` within `radius` (mm), by one bounded FLANN
 // search over all queries (see nearest_batch); non-finite queries are never near.
-std::vector<char> within_radius(const std::vector<Eigen::Vector3f>& points, const std::vector<Eigen::Vector3f>& queries,
-                                double radius);
+std::vector<char> within_radius(const std::vector<Eigen::Vector3f>& points,
+                                const std::vector<Eigen::Vector3f>& queries, double radius);
 
 // Finite points only (NaN = no measurement); normals copied when present.
 PclCloud::Ptr to_pcl(const PointCloud& c);
