@@ -261,16 +261,21 @@ TEST(Bench, UnsuccessfulRecordsOfAbsentTargetsAreCountedApart) {
     return r;
   };
   const std::vector<io::Json> rs = {rec(false, bench::kMinVisiblePoints - 1, 0), rec(false, bench::kMinVisiblePoints, 1),
-                                    rec(true, 3, 1), rec(false, -1), rec(false, 0, 0)};
+                                    rec(true, 3, 1), rec(false, -1), rec(false, 0, 0),
+                                    rec(true, bench::kMinVisiblePoints + 5, 1)};
   std::vector<const io::Json*> ptr;
   for (const auto& r : rs) ptr.push_back(&r);
   const auto g = bench::group_stats(ptr);
   EXPECT_EQ(g.not_visible, 2);
   EXPECT_EQ(g.failed, 4);
-  // Determinable: the two marked so and the record without the field (an older run): 1 of 3.
+  // Determinable: the visible ones marked so and the record without the field (an older run),
+  // 1 success of 3. The success on 3 points is marked determinable, but its target was not in
+  // view, so the refinement from the truth that said so proves nothing.
   EXPECT_EQ(g.determinable, 3);
   EXPECT_EQ(g.determinable_successes, 1);
   EXPECT_NEAR(g.determinable_success_rate(), 1.0 / 3, 1e-12);
+  EXPECT_FALSE(bench::determinable(rs[2]));
+  EXPECT_TRUE(bench::determinable(rs[3]));
 }
 
 TEST(Bench, DatasetIsByteIdenticalAndGivesTheSameRecordsAsMemory) {

@@ -17,7 +17,7 @@ GroupStats group_stats(const std::vector<const io::Json*>& rs) {
     g.ambiguous += st == "ambiguous", g.failed += st == "failed";
     const long visible = x->value("visible_points", -1L);  // absent in results of older runs
     g.not_visible += !x->at("success").get<bool>() && visible >= 0 && visible < kMinVisiblePoints;
-    if (x->value("determinable", true))
+    if (determinable(*x))
       ++g.determinable, g.determinable_successes += x->at("success").get<bool>();
     if (st != "failed" && x->at("expect") == "pose") t.push_back(x->at("t_err_um")), r.push_back(x->at("r_err_deg"));
     time.push_back(x->at("timing").at("time_s"));

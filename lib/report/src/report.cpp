@@ -134,7 +134,8 @@ ReportSummary make_report(const ReportSettings& s) {
         "symmetry, `weak_rotation`, `weak_translation`) with the rest of the pose within tolerance; for a "
         "wrong-object trial, any status but `ok`. A false accept is an `ok` outside tolerance. "
         "The scan determines the pose when the default method (`ceres`), refined from the true pose on the "
-        "scan points near it, is a success by the same rule; where it is not (a view holding one plane of "
+        "scan points near it, is a success by the same rule and the scan holds the target (at least "
+     << bench::kMinVisiblePoints << " labelled points, of a thin part on its side); where it is not (a view holding one plane of "
         "the part), no method can be right with `ok`, and the trial still counts as a miss in `success`. "
         "Errors are over the registrations that returned a pose (status not `failed`).\n\n";
   md << "## Per method\n\n| method " << kTableHead << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";

@@ -47,6 +47,14 @@ void write_results(const std::string& dir, const std::vector<io::Json>& records,
 // cannot be registered by any method: "not visible". A record whose scan does not determine the
 // pose (see "determinable") is a miss for the success rate, and counted apart as well.
 inline const long kMinVisiblePoints = registration::ThinSettings{}.min_points;
+// Does the scan determine the pose? The refinement from the truth (the record's "determinable")
+// and the target in view: with the target absent, that refinement holds still on whatever lies
+// near the truth (a needle's eye next to a thread tip the sweep missed) and passes for an
+// answer. visible_points < 0: a scan without labels; no "determinable": an older run's record.
+inline bool determinable(const io::Json& record) {
+  const long visible = record.value("visible_points", -1L);
+  return record.value("determinable", true) && (visible < 0 || visible >= kMinVisiblePoints);
+}
 struct GroupStats {
   size_t records = 0;
   int successes = 0, false_accepts = 0, ambiguous = 0, failed = 0;
