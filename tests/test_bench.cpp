@@ -278,6 +278,24 @@ TEST(Bench, UnsuccessfulRecordsOfAbsentTargetsAreCountedApart) {
   EXPECT_TRUE(bench::determinable(rs[3]));
 }
 
+// A baseline's record (no check at the truth) takes its scan's facts from laserfit's record of the
+// same trial and object, and only from that one.
+TEST(Bench, BaselineRecordsShareTheScanFactsOfTheirTrial) {
+  auto rec = [](const char* method, int trial, const char* object) {
+    return io::Json{{"benchmark", "b"}, {"method", method}, {"trial", trial}, {"object", object}};
+  };
+  std::vector<io::Json> rs = {rec("ceres", 3, "plug"), rec("open3d", 3, "plug"), rec("open3d", 3, "socket"),
+                              rec("open3d", 4, "plug")};
+  rs[0]["determinable"] = false, rs[0]["visible_points"] = 7;
+  EXPECT_EQ(bench::share_scan_facts(rs), 1u);
+  EXPECT_FALSE(rs[1].at("determinable").get<bool>());
+  EXPECT_EQ(rs[1].at("visible_points").get<long>(), 7);
+  EXPECT_EQ(rs[1].at("scan_facts_from"), "ceres");
+  EXPECT_FALSE(rs[2].contains("determinable"));  // another object
+  EXPECT_FALSE(rs[3].contains("determinable"));  // another trial
+  EXPECT_FALSE(rs[0].contains("scan_facts_from"));
+}
+
 TEST(Bench, DatasetIsByteIdenticalAndGivesTheSameRecordsAsMemory) {
   test::TempDir dir;
   const auto b = bench::load_benchmark(tiny_benchmark(dir, 2));

@@ -29,6 +29,27 @@ GroupStats group_stats(const std::vector<const io::Json*>& rs) {
   return g;
 }
 
+size_t share_scan_facts(std::vector<io::Json>& records) {
+  using Key = std::tuple<std::string, int, std::string>;
+  auto key = [](const io::Json& r) {
+    return Key{r.value("benchmark", ""), r.at("trial").get<int>(), r.at("object").get<std::string>()};
+  };
+  std::map<Key, const io::Json*> donor;
+  for (const auto& r : records)
+    if (r.contains("determinable") && r.contains("visible_points")) donor.emplace(key(r), &r);
+  size_t filled = 0;
+  for (auto& r : records) {
+    if (r.contains("determinable") || r.contains("visible_points")) continue;
+    const auto it = donor.find(key(r));
+    if (it == donor.end()) continue;
+    r["determinable"] = it->second->at("determinable");
+    r["visible_points"] = it->second->at("visible_points");
+    r["scan_facts_from"] = it->second->at("method");
+    ++filled;
+  }
+  return filled;
+}
+
 std::string summary_csv(const std::vector<io::Json>& records) {
   using Key = std::tuple<std::string, std::string, std::string>;
   std::map<Key, std::vector<const io::Json*>> groups;

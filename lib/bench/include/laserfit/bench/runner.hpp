@@ -71,6 +71,12 @@ struct GroupStats {
 };
 GroupStats group_stats(const std::vector<const io::Json*>& records);
 
+// What a record says about its scan rather than its method ("visible_points", "determinable")
+// copied onto the records of the same (benchmark, trial, object) that lack it, such as the Open3D
+// baseline's, which registers laserfit's scans but cannot run the check at the truth. A record
+// filled so names its donor's method in "scan_facts_from". Returns how many were filled.
+size_t share_scan_facts(std::vector<io::Json>& records);
+
 // Per (method, scene, object) and per method overall: success rate, false accepts, ambiguous,
 // failed, not visible, determinable records and their success rate, median / p95 errors over
 // the poses returned (status not failed), time, peak memory.
