@@ -220,8 +220,7 @@ std::vector<io::Json> run_trial(const Benchmark& b, const PreparedScene& p, cons
                                            ? res.hessian_eigenvalues[0] / res.hessian_eigenvalues[5] : 0.0},
                      {"sigma_origin_um", res.sigma_origin_mm * 1e3}, {"sigma_rotation_deg", res.sigma_rotation_deg},
                      {"scan_points", in.scan_points}, {"visible_points", visible},
-                     {"determinable", tg.expect_failure || (truth_check.determinable &&
-                                                              (visible < 0 || visible >= kMinVisiblePoints))},
+                     {"determinable", tg.expect_failure || (truth_check.determinable && in_view(visible))},
                      {"at_truth", {{"status", truth_check.status}, {"reason", truth_check.reason}}},
                      {"T_scan_ref", io::pose_to_json(res.T_scan_ref).at("matrix")},
                      {"timing", timing}});

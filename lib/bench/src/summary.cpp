@@ -15,8 +15,8 @@ GroupStats group_stats(const std::vector<const io::Json*>& rs) {
     g.successes += x->at("success").get<bool>(), g.false_accepts += x->at("false_accept").get<bool>();
     const std::string st = x->at("status");
     g.ambiguous += st == "ambiguous", g.failed += st == "failed";
-    const long visible = x->value("visible_points", -1L);  // absent in results of older runs
-    g.not_visible += !x->at("success").get<bool>() && visible >= 0 && visible < kMinVisiblePoints;
+    // visible_points is absent in results of older runs
+    g.not_visible += !x->at("success").get<bool>() && !in_view(x->value("visible_points", -1L));
     if (determinable(*x))
       ++g.determinable, g.determinable_successes += x->at("success").get<bool>();
     if (st != "failed" && x->at("expect") == "pose") t.push_back(x->at("t_err_um")), r.push_back(x->at("r_err_deg"));

@@ -8,23 +8,29 @@ namespace laserfit::registration {
 
 namespace {
 
-// The finite points of `pts` as FLANN's rows (3 floats each) and where each came from: FLANN
-// asserts on NaN.
+// The finite points among point(0) .. point(n - 1) as FLANN's rows (3 floats each) and where
+// each came from: FLANN asserts on NaN.
+template <class Point>
+size_t finite_rows(size_t n, Point point, std::vector<float>& xyz, std::vector<size_t>& at) {
+  xyz.clear(), at.clear();
+  xyz.reserve(3 * n);
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3f p = point(i);
+    if (p.allFinite()) xyz.insert(xyz.end(), {p.x(), p.y(), p.z()}), at.push_back(i);
+  }
+  return at.size();
+}
+
 size_t finite_rows(const std::vector<Eigen::Vector3f>& pts, std::vector<float>& xyz,
                    std::vector<size_t>& at) {
-  xyz.clear(), at.clear();
-  xyz.reserve(3 * pts.size());
-  for (size_t i = 0; i < pts.size(); ++i)
-    if (pts[i].allFinite())
-      xyz.insert(xyz.end(), {pts[i].x(), pts[i].y(), pts[i].z()}), at.push_back(i);
-  return at.size();
+  return finite_rows(pts.size(), [&](size_t i) { return pts[i]; }, xyz, at);
 }
 
 }  // namespace
 
 struct Tree::Direct {
   std::vector<float> xyz;  // the finite input points, 3 floats each (FLANN keeps a pointer to it)
-  std::vector<int> id;     // their indices in the input cloud
+  std::vector<size_t> id;  // their indices in the input cloud
   std::unique_ptr<flann::KDTreeSingleIndex<flann::L2_Simple<float>>> index;
 };
 
@@ -40,11 +46,7 @@ const Tree::Direct* Tree::direct() const {
     if (in && !in->empty()) return;  // a subset: PCL's own path maps it
     auto b = std::make_shared<Direct>();
     const auto& cloud = *getInputCloud();
-    b->xyz.reserve(3 * cloud.size());
-    for (size_t i = 0; i < cloud.size(); ++i)
-      if (cloud[i].getVector3fMap().allFinite())
-        b->xyz.insert(b->xyz.end(), {cloud[i].x, cloud[i].y, cloud[i].z}), b->id.push_back(int(i));
-    if (!b->id.empty()) {
+    if (finite_rows(cloud.size(), [&](size_t i) { return cloud[i].getVector3fMap(); }, b->xyz, b->id)) {
       b->index = std::make_unique<flann::KDTreeSingleIndex<flann::L2_Simple<float>>>(
           flann::Matrix<float>(b->xyz.data(), b->id.size(), 3), flann::KDTreeSingleIndexParams(15));
       b->index->buildIndex();
@@ -82,7 +84,7 @@ int Tree::nearestKSearch(const PointT& p, int k, pcl::Indices& idx, std::vector<
     rs.copy(found.data(), d2.data(), n, sp.sorted);
   }
   idx.resize(kk);
-  for (size_t i = 0; i < n; ++i) idx[i] = b->id[found[i]];
+  for (size_t i = 0; i < n; ++i) idx[i] = int(b->id[found[i]]);
   return int(kk);
 }
 
@@ -116,7 +118,7 @@ int Tree::radiusSearch(const PointT& p, double radius, pcl::Indices& idx, std::v
     if (n > 0) rs.copy(found.data(), d2.data(), n, sp.sorted);
   }
   idx.resize(n);
-  for (size_t i = 0; i < n; ++i) idx[i] = b->id[found[i]];
+  for (size_t i = 0; i < n; ++i) idx[i] = int(b->id[found[i]]);
   return int(n);
 }
 
@@ -136,7 +138,7 @@ void Tree::nearest_batch(const std::vector<Eigen::Vector3f>& queries, std::vecto
   flann::SearchParams sp(-1, 0.0f);  // exact search, as PCL's tree
   sp.cores = 1;                      // callers parallelise over registrations, not queries
   b->index->knnSearch(flann::Matrix<float>(q.data(), at.size(), 3), fi, fd, 1, sp);
-  for (size_t k = 0; k < at.size(); ++k) idx[at[k]] = b->id[found[k]], d2[at[k]] = dist[k];
+  for (size_t k = 0; k < at.size(); ++k) idx[at[k]] = int(b->id[found[k]]), d2[at[k]] = dist[k];
 }
 
 std::vector<char> within_radius(const std::vector<Eigen::Vector3f>& points,

@@ -51,9 +51,9 @@ inline const long kMinVisiblePoints = registration::ThinSettings{}.min_points;
 // and the target in view: with the target absent, that refinement holds still on whatever lies
 // near the truth (a needle's eye next to a thread tip the sweep missed) and passes for an
 // answer. visible_points < 0: a scan without labels; no "determinable": an older run's record.
+inline bool in_view(long visible_points) { return visible_points < 0 || visible_points >= kMinVisiblePoints; }
 inline bool determinable(const io::Json& record) {
-  const long visible = record.value("visible_points", -1L);
-  return record.value("determinable", true) && (visible < 0 || visible >= kMinVisiblePoints);
+  return record.value("determinable", true) && in_view(record.value("visible_points", -1L));
 }
 struct GroupStats {
   size_t records = 0;
