@@ -42,6 +42,7 @@ Image read_png(const std::string& path) {
 
 io::Json record(int trial, const std::string& method, bool success, double t_um, double noise) {
   return {{"benchmark", "synthetic"}, {"scene", "s"}, {"object", "o"}, {"method", method}, {"trial", trial},
+          {"repetition", trial},
           {"conditions", {{"noise_scale", noise}, {"outlier_rate", 0.0}}}, {"expect", "pose"},
           {"status", success ? "ok" : "failed"}, {"success", success}, {"false_accept", false},
           {"t_err_um", t_um}, {"r_err_deg", t_um / 100}, {"scan_points", 1000000 + trial},
@@ -107,5 +108,36 @@ TEST(Report, TablesCountWhatTheRecordsSay) {
     EXPECT_TRUE(std::filesystem::exists(dir / (std::string("rep/") + f))) << f;
   EXPECT_FALSE(std::filesystem::exists(dir / "rep/success_vs_outlier_rate.png"));  // one value only
   test::write_text(dir / "run/results.jsonl", "{\"trial\": 1}\n");
+  EXPECT_THROW(report::make_report(s), Error);
+}
+
+// Exact: a repetition filter keeps the records of those repetitions from every run and no other,
+// and says so in the report; a filter that matches nothing, or records without a repetition, are
+// errors rather than an empty or silently unfiltered report.
+TEST(Report, RepetitionsSelectTheSameScansFromEveryRun) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "a");
+  std::filesystem::create_directories(dir / "b");
+  std::string a, b;
+  for (int t = 0; t < 4; ++t) a += record(t, "ceres", t != 1, 3, 1).dump() + "\n";
+  for (int t = 0; t < 2; ++t) b += record(t, "gicp", false, 800, 1).dump() + "\n";
+  test::write_text(dir / "a/results.jsonl", a);
+  test::write_text(dir / "b/results.jsonl", b);
+  report::ReportSettings s;
+  s.results = {dir / "a/results.jsonl", dir / "b/results.jsonl"};
+  s.out_dir = dir / "rep";
+  s.overlays = false;
+  s.only_repetitions = {0, 1};
+  EXPECT_EQ(report::make_report(s).records, 4u);
+  const std::string md = test::read_bytes(dir / "rep/README.md");
+  EXPECT_NE(md.find("| ceres | 2 | 50 % |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| gicp | 2 | 0 % |"), std::string::npos) << md;
+  EXPECT_NE(md.find("Only repetitions 0–1 of each run (2 repetitions)"), std::string::npos) << md;
+  s.only_repetitions = {7};
+  EXPECT_THROW(report::make_report(s), Error);
+  io::Json bare = record(0, "ceres", true, 3, 1);
+  bare.erase("repetition");
+  test::write_text(dir / "a/results.jsonl", bare.dump() + "\n");
+  s.only_repetitions = {0};
   EXPECT_THROW(report::make_report(s), Error);
 }

@@ -13,7 +13,7 @@ namespace {
 
 struct Options {
   std::vector<std::string> results;
-  std::string out;
+  std::string out, repetitions;
   bool json = false, no_overlays = false;
 };
 
@@ -38,6 +38,7 @@ int run(const Options& o) {
   s.results = o.results;
   s.out_dir = o.out;
   s.overlays = !o.no_overlays;
+  if (!o.repetitions.empty()) s.only_repetitions = parse_range(o.repetitions, "--repetitions");
   const auto r = report::make_report(s);
   std::string h = "report of " + std::to_string(r.records) + " records -> " + o.out + "/README.md (";
   h += std::to_string(r.files.size()) + " files)\n";
@@ -55,6 +56,8 @@ Command add_report(CLI::App& root, int argc, char** argv) {
                                           "to them are used)")->required();
   app->add_option("-o,--out", o->out, "report directory (README.md, PNGs, summary.csv)")->required();
   app->add_flag("--no-overlays", o->no_overlays, "skip the overlay renderings");
+  app->add_option("--repetitions", o->repetitions,
+                  "only records of repetitions a:b (to compare runs of different lengths on the same scans)");
   app->add_flag("--json", o->json, "machine-readable summary on stdout");
   return {app, [o, argc, argv] {
             ensure_display(argc, argv);

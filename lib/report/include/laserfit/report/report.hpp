@@ -12,6 +12,8 @@ struct ReportSettings {
                                      // overlays/ are used when present)
   std::string out_dir;
   bool overlays = true;
+  std::vector<int> only_repetitions;  // non-empty: only records of these repetitions, so runs of
+                                      // different lengths compare on the same scans
 };
 
 struct ReportSummary {
