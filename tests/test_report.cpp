@@ -34,18 +34,29 @@ Image read_png(const std::string& path) {
   for (int i = 0; i < im.width * im.height; ++i) {
     const int R = px[i * nc], G = px[i * nc + 1], B = px[i * nc + 2];
     const int mx = std::max({R, G, B}), mn = std::min({R, G, B});
-    if (mx - mn > 80) ++im.coloured;
-    else if (mx < 128) ++im.dark;
+    if (mx - mn > 80)
+      ++im.coloured;
+    else if (mx < 128)
+      ++im.dark;
   }
   return im;
 }
 
 io::Json record(int trial, const std::string& method, bool success, double t_um, double noise) {
-  return {{"benchmark", "synthetic"}, {"scene", "s"}, {"object", "o"}, {"method", method}, {"trial", trial},
+  return {{"benchmark", "synthetic"},
+          {"scene", "s"},
+          {"object", "o"},
+          {"method", method},
+          {"trial", trial},
           {"repetition", trial},
-          {"conditions", {{"noise_scale", noise}, {"outlier_rate", 0.0}}}, {"expect", "pose"},
-          {"status", success ? "ok" : "failed"}, {"success", success}, {"false_accept", false},
-          {"t_err_um", t_um}, {"r_err_deg", t_um / 100}, {"scan_points", 1000000 + trial},
+          {"conditions", {{"noise_scale", noise}, {"outlier_rate", 0.0}}},
+          {"expect", "pose"},
+          {"status", success ? "ok" : "failed"},
+          {"success", success},
+          {"false_accept", false},
+          {"t_err_um", t_um},
+          {"r_err_deg", t_um / 100},
+          {"scan_points", 1000000 + trial},
           {"timing", {{"time_s", 1.0 + trial}, {"peak_rss_mb", 100.0}}}};
 }
 
@@ -86,7 +97,7 @@ TEST(Report, TablesCountWhatTheRecordsSay) {
   lines += record(0, "ceres", true, 3, 1).dump() + "\n";
   lines += record(1, "ceres", true, 5, 1).dump() + "\n";
   io::Json absent = record(2, "ceres", false, 900, 2);
-  absent["visible_points"] = 4;  // the target hardly in the scan: counted as not visible
+  absent["visible_points"] = 4;    // the target hardly in the scan: counted as not visible
   absent["determinable"] = false;  // and its pose not determinable from the scan
   lines += absent.dump() + "\n";
   lines += record(3, "ceres", true, 4, 2).dump() + "\n";
@@ -101,10 +112,11 @@ TEST(Report, TablesCountWhatTheRecordsSay) {
   const std::string md = test::read_bytes(dir / "rep/README.md");
   // ceres: 3 of 4 succeed; the failed one (not visible) returns no pose, so the median is over
   // 3, 4, 5 um. The other three determine their pose and succeed: 100 % of 3.
-  EXPECT_NE(md.find("| ceres | 4 | 75 % | 0 | 0 | 1 | 1 | 100 % of 3 | 4 / "), std::string::npos) << md;
+  EXPECT_NE(md.find("| ceres | 4 | 75 % | 0 | 0 | 1 | 1 | 100 % of 3 | 4 / "), std::string::npos)
+      << md;
   EXPECT_NE(md.find("| gicp | 1 | 0 % |"), std::string::npos) << md;
-  for (const char* f : {"error_cdf_translation.png", "error_cdf_rotation.png", "success_vs_noise_scale.png",
-                        "time_vs_scan_size.png"})
+  for (const char* f : {"error_cdf_translation.png", "error_cdf_rotation.png",
+                        "success_vs_noise_scale.png", "time_vs_scan_size.png"})
     EXPECT_TRUE(std::filesystem::exists(dir / (std::string("rep/") + f))) << f;
   EXPECT_FALSE(std::filesystem::exists(dir / "rep/success_vs_outlier_rate.png"));  // one value only
   test::write_text(dir / "run/results.jsonl", "{\"trial\": 1}\n");

@@ -30,7 +30,8 @@ std::string fmt(double v, int prec = 3) {
 
 // Empirical CDF of an error over every record expected to give a pose; a failed registration
 // never reaches any error level, so the curve ends below 1 by the failure rate.
-Series cdf(const std::string& name, const std::vector<const Json*>& rs, const char* key, double floor) {
+Series cdf(const std::string& name, const std::vector<const Json*>& rs, const char* key,
+           double floor) {
   std::vector<double> v;
   size_t n = 0;
   for (const auto* r : rs) {
@@ -40,14 +41,17 @@ Series cdf(const std::string& name, const std::vector<const Json*>& rs, const ch
   }
   std::sort(v.begin(), v.end());
   Series s{name, {}, {}};
-  for (size_t i = 0; i < v.size(); ++i) s.x.push_back(v[i]), s.y.push_back(double(i + 1) / double(n));
+  for (size_t i = 0; i < v.size(); ++i)
+    s.x.push_back(v[i]), s.y.push_back(double(i + 1) / double(n));
   return s;
 }
 
 // Success rate against a condition; continuous draws are grouped into 5 equal-count bins.
-Series success_vs(const std::string& name, const std::vector<const Json*>& rs, const std::string& cond) {
+Series success_vs(const std::string& name, const std::vector<const Json*>& rs,
+                  const std::string& cond) {
   std::vector<std::pair<double, bool>> v;
-  for (const auto* r : rs) v.push_back({r->at("conditions").at(cond).get<double>(), r->at("success").get<bool>()});
+  for (const auto* r : rs)
+    v.push_back({r->at("conditions").at(cond).get<double>(), r->at("success").get<bool>()});
   std::sort(v.begin(), v.end());
   std::set<double> distinct;
   for (const auto& p : v) distinct.insert(p.first);
@@ -76,17 +80,18 @@ Series success_vs(const std::string& name, const std::vector<const Json*>& rs, c
 std::string table_row(const std::string& head, const std::vector<const Json*>& rs) {
   const bench::GroupStats g = bench::group_stats(rs);
   std::ostringstream o;
-  o << "| " << head << " | " << g.records << " | " << fmt(100.0 * g.success_rate(), 4) << " % | " << g.false_accepts
-    << " | " << g.ambiguous << " | " << g.failed << " | " << g.not_visible << " | "
-    << fmt(100.0 * g.determinable_success_rate(), 4) << " % of " << g.determinable << " | " << fmt(g.t_median_um) << " / "
-    << fmt(g.t_p95_um) << " | "
-    << fmt(g.r_median_deg) << " / " << fmt(g.r_p95_deg) << " | " << fmt(g.time_median_s) << " / "
-    << fmt(g.time_p95_s) << " | " << (g.peak_rss_mb > 0 ? fmt(g.peak_rss_mb, 4) : "not measured") << " |\n";
+  o << "| " << head << " | " << g.records << " | " << fmt(100.0 * g.success_rate(), 4) << " % | "
+    << g.false_accepts << " | " << g.ambiguous << " | " << g.failed << " | " << g.not_visible
+    << " | " << fmt(100.0 * g.determinable_success_rate(), 4) << " % of " << g.determinable << " | "
+    << fmt(g.t_median_um) << " / " << fmt(g.t_p95_um) << " | " << fmt(g.r_median_deg) << " / "
+    << fmt(g.r_p95_deg) << " | " << fmt(g.time_median_s) << " / " << fmt(g.time_p95_s) << " | "
+    << (g.peak_rss_mb > 0 ? fmt(g.peak_rss_mb, 4) : "not measured") << " |\n";
   return o.str();
 }
 
 const char* kTableHead =
-    "| registrations | success | false accepts | ambiguous | failed | unsuccessful, target not visible | success where the scan determines the pose | "
+    "| registrations | success | false accepts | ambiguous | failed | unsuccessful, target not "
+    "visible | success where the scan determines the pose | "
     "t error median / p95 (µm) | r error median / p95 (°) "
     "| time median / p95 (s) | peak memory (MiB) |\n";
 
@@ -136,27 +141,38 @@ ReportSummary make_report(const ReportSettings& s) {
   for (const auto& p : s.results) md << " `" << p << "`";
   md << ".\n\n";
   if (!reps.empty())
-    md << "Only repetitions " << *reps.begin() << "–" << *reps.rbegin() << " of each run (" << reps.size()
-       << " repetitions).\n\n";
+    md << "Only repetitions " << *reps.begin() << "–" << *reps.rbegin() << " of each run ("
+       << reps.size() << " repetitions).\n\n";
   for (const auto& run : runs)
-    md << "- run: benchmark `" << run.value("benchmark", "?") << "` (file digest " << run.value("digest", "?")
-       << ", seed " << run.value("seed", Json(0)).dump() << ", shard " << run.value("shard", "?") << "), "
-       << run.value("trials", Json(0)).dump() << " trials, " << fmt(run.value("wall_s", 0.0)) << " s wall, "
-       << run.value("jobs", Json(0)).dump() << " jobs\n";
-  md << "\nSuccess: translation ≤ tolerance and rotation ≤ tolerance (modulo the part's symmetries) with status "
-        "`ok`, or `ambiguous` naming a DoF the target declares unobservable from its view (a continuous "
-        "symmetry, `weak_rotation`, `weak_translation`) with the rest of the pose within tolerance; for a "
+    md << "- run: benchmark `" << run.value("benchmark", "?") << "` (file digest "
+       << run.value("digest", "?") << ", seed " << run.value("seed", Json(0)).dump() << ", shard "
+       << run.value("shard", "?") << "), " << run.value("trials", Json(0)).dump() << " trials, "
+       << fmt(run.value("wall_s", 0.0)) << " s wall, " << run.value("jobs", Json(0)).dump()
+       << " jobs\n";
+  md << "\nSuccess: translation ≤ tolerance and rotation ≤ tolerance (modulo the part's "
+        "symmetries) with status "
+        "`ok`, or `ambiguous` naming a DoF the target declares unobservable from its view (a "
+        "continuous "
+        "symmetry, `weak_rotation`, `weak_translation`) with the rest of the pose within "
+        "tolerance; for a "
         "wrong-object trial, any status but `ok`. A false accept is an `ok` outside tolerance. "
-        "The scan determines the pose when the default method (`ceres`), refined from the true pose on the "
-        "scan points near it, is a success by the same rule and the scan holds the target (at least "
-     << bench::kMinVisiblePoints << " labelled points, of a thin part on its side); where it is not (a view holding one plane of "
-        "the part), no method can be right with `ok`, and the trial still counts as a miss in `success`. "
+        "The scan determines the pose when the default method (`ceres`), refined from the true "
+        "pose on the "
+        "scan points near it, is a success by the same rule and the scan holds the target (at "
+        "least "
+     << bench::kMinVisiblePoints
+     << " labelled points, of a thin part on its side); where it is not (a view holding one plane "
+        "of "
+        "the part), no method can be right with `ok`, and the trial still counts as a miss in "
+        "`success`. "
         "Errors are over the registrations that returned a pose (status not `failed`).";
   if (shared)
-    md << " " << shared << " records without the check at the truth (a baseline outside laserfit) take their "
+    md << " " << shared
+       << " records without the check at the truth (a baseline outside laserfit) take their "
        << "target's visibility and determinability from a laserfit record of the same trial.";
   md << "\n\n";
-  md << "## Per method\n\n| method " << kTableHead << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  md << "## Per method\n\n| method " << kTableHead
+     << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& [m, rs] : by_method) md << table_row(m, rs);
   md << "\n## Per scene and object\n\n| scene | object | method " << kTableHead
      << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
@@ -169,26 +185,34 @@ ReportSummary make_report(const ReportSettings& s) {
   };
   {
     std::vector<Series> t, r;
-    for (const auto& [m, rs] : by_method) t.push_back(cdf(m, rs, "t_err_um", 0.01)), r.push_back(cdf(m, rs, "r_err_deg", 1e-4));
+    for (const auto& [m, rs] : by_method)
+      t.push_back(cdf(m, rs, "t_err_um", 0.01)), r.push_back(cdf(m, rs, "r_err_deg", 1e-4));
     render_chart(s.out_dir + "/error_cdf_translation.png", t,
-                 {"Translation error CDF", "translation error (um, log)", "fraction of trials", true, false, 0, 1});
-    figure("error_cdf_translation.png", "Cumulative distribution of the translation error (failed registrations never count as reached).");
+                 {"Translation error CDF", "translation error (um, log)", "fraction of trials",
+                  true, false, 0, 1});
+    figure("error_cdf_translation.png",
+           "Cumulative distribution of the translation error (failed registrations never count as "
+           "reached).");
     render_chart(s.out_dir + "/error_cdf_rotation.png", r,
-                 {"Rotation error CDF", "rotation error (deg, log)", "fraction of trials", true, false, 0, 1});
+                 {"Rotation error CDF", "rotation error (deg, log)", "fraction of trials", true,
+                  false, 0, 1});
     figure("error_cdf_rotation.png", "Cumulative distribution of the rotation error.");
   }
   for (const auto& [cond, label] : std::vector<std::pair<std::string, std::string>>{
-           {"noise_scale", "noise level (x the sensor's default sigmas)"}, {"outlier_rate", "outlier rate (per point)"}}) {
+           {"noise_scale", "noise level (x the sensor's default sigmas)"},
+           {"outlier_rate", "outlier rate (per point)"}}) {
     std::set<double> values;
     for (const auto& r : records) values.insert(r.at("conditions").at(cond).get<double>());
     if (values.size() < 2) {
-      md << "(No figure of success vs " << cond << ": every trial ran at " << fmt(*values.begin()) << ".)\n\n";
+      md << "(No figure of success vs " << cond << ": every trial ran at " << fmt(*values.begin())
+         << ".)\n\n";
       continue;
     }
     std::vector<Series> ss;
     for (const auto& [m, rs] : by_method) ss.push_back(success_vs(m, rs, cond));
     const std::string file = "success_vs_" + cond + ".png";
-    render_chart(s.out_dir + "/" + file, ss, {"Success rate vs " + cond, label, "success rate", false, false, 0, 1.05});
+    render_chart(s.out_dir + "/" + file, ss,
+                 {"Success rate vs " + cond, label, "success rate", false, false, 0, 1.05});
     figure(file, "Success rate against " + label + ".");
   }
   {
@@ -196,12 +220,16 @@ ReportSummary make_report(const ReportSettings& s) {
     for (const auto& [m, rs] : by_method) {
       Series se{m, {}, {}};
       for (const auto* r : rs)
-        se.x.push_back(r->at("scan_points").get<double>() / 1e6), se.y.push_back(r->at("timing").at("time_s").get<double>());
+        se.x.push_back(r->at("scan_points").get<double>() / 1e6),
+            se.y.push_back(r->at("timing").at("time_s").get<double>());
       ss.push_back(se);
     }
     render_chart(s.out_dir + "/time_vs_scan_size.png", ss,
-                 {"Registration time vs scan size", "scan points (millions)", "time per registration (s)", false, true});
-    figure("time_vs_scan_size.png", "Registration time (segmentation, features, RANSAC, refinement, trust) against the scan's valid points.");
+                 {"Registration time vs scan size", "scan points (millions)",
+                  "time per registration (s)", false, true});
+    figure("time_vs_scan_size.png",
+           "Registration time (segmentation, features, RANSAC, refinement, trust) against the "
+           "scan's valid points.");
   }
   if (!overlay_files.empty()) md << "### Registration overlays (first trial of each scene)\n\n";
   for (const auto& f : overlay_files) {
@@ -211,7 +239,9 @@ ReportSummary make_report(const ReportSettings& s) {
     vp >> v.x() >> v.y() >> v.z();
     const std::string name = fs::path(f).stem().string(), file = "overlay_" + name + ".png";
     render_overlay(s.out_dir + "/" + file, c, v, name);
-    figure(file, "Overlay " + name + ": the scan near the part (grey) and the reference at the estimated pose (orange), seen from the sensor.");
+    figure(file, "Overlay " + name +
+                     ": the scan near the part (grey) and the reference at the estimated pose "
+                     "(orange), seen from the sensor.");
   }
   write_file_atomic(s.out_dir + "/README.md", md.str());
   write_file_atomic(s.out_dir + "/summary.csv", bench::summary_csv(records));

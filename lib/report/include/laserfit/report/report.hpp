@@ -18,7 +18,7 @@ struct ReportSettings {
 
 struct ReportSummary {
   size_t records = 0;
-  std::vector<std::string> files;    // written, relative to out_dir
+  std::vector<std::string> files;  // written, relative to out_dir
 };
 
 ReportSummary make_report(const ReportSettings& s);
