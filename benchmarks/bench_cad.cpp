@@ -3,17 +3,15 @@
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
-
+#include "bench_meshes.hpp"
 #include "laserfit/cad/import.hpp"
 #include "laserfit/sampling/sampling.hpp"
-#include "bench_meshes.hpp"
 
 using namespace laserfit;
 using laserfit::bench::data;
 using laserfit::bench::mesh_100k;
 
 namespace {
-
 
 void BM_Import(benchmark::State& st, const char* file) {
   size_t tris = 0;
@@ -22,8 +20,10 @@ void BM_Import(benchmark::State& st, const char* file) {
 }
 BENCHMARK_CAPTURE(BM_Import, step_panel, "02-PANEL.step")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Import, stl_panel, "02-PANEL.stl")->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Import, obj_gearmotor, "04_37D-GEARMOTOR-50-70.obj")->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Import, dae_gearmotor, "04_37D-GEARMOTOR-50-70.dae")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Import, obj_gearmotor, "04_37D-GEARMOTOR-50-70.obj")
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Import, dae_gearmotor, "04_37D-GEARMOTOR-50-70.dae")
+    ->Unit(benchmark::kMillisecond);
 
 // Arg 0: points, Arg 1: threads.
 void BM_SampleUniform(benchmark::State& st) {
@@ -35,7 +35,11 @@ void BM_SampleUniform(benchmark::State& st) {
   st.SetItemsProcessed(st.iterations() * st.range(0));
   st.counters["triangles"] = double(m.faces.size());
 }
-BENCHMARK(BM_SampleUniform)->Args({1000000, 1})->Args({1000000, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SampleUniform)
+    ->Args({1000000, 1})
+    ->Args({1000000, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_SamplePoisson(benchmark::State& st) {
   const TriMesh& m = mesh_100k();

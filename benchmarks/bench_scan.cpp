@@ -17,7 +17,8 @@ namespace {
 scan::ScanScene gearmotor_scene(bool noise) {
   scan::ScanScene sc;
   const TriMesh& m = bench::mesh_100k();
-  const Pose lying = pose_from_tq({0, 0, 0}, Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY())));
+  const Pose lying = pose_from_tq(
+      {0, 0, 0}, Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY())));
   sc.objects.push_back({"gearmotor", "", lying, true, m});
   TriMesh placed = m;
   placed.transform(lying.cast<float>());
@@ -39,7 +40,8 @@ void BM_Scan(benchmark::State& st) {
   double laser = 0, camera = 0, noise = 0, bvh = 0;
   for (auto _ : st) {
     r = scan::simulate_scan(sc);
-    laser += r.timings.laser_s, camera += r.timings.camera_s, noise += r.timings.noise_s, bvh += r.timings.bvh_s;
+    laser += r.timings.laser_s, camera += r.timings.camera_s, noise += r.timings.noise_s,
+        bvh += r.timings.bvh_s;
   }
   const double n = double(st.iterations());
   st.SetItemsProcessed(int64_t(st.iterations() * r.stats.rays));
@@ -51,7 +53,12 @@ void BM_Scan(benchmark::State& st) {
   st.counters["camera_cpu_ms"] = 1e3 * camera / n;
   st.counters["noise_cpu_ms"] = 1e3 * noise / n;
 }
-BENCHMARK(BM_Scan)->Args({1, 1})->Args({2, 1})->Args({2, 0})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Scan)
+    ->Args({1, 1})
+    ->Args({2, 1})
+    ->Args({2, 0})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 

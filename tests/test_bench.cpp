@@ -25,17 +25,28 @@ namespace {
 const std::string kSource = LASERFIT_SOURCE_DIR;
 
 // A small USB scene (a coarse, short sweep: ~0.2 M points) so that a run takes seconds.
-std::string tiny_benchmark(const test::TempDir& dir, int trials = 3, const std::string& extra = "") {
-  test::write_text(dir / "scene.yaml", "objects:\n"
-                   "  - {name: usb_a_receptacle, mesh: " + kSource + "/cad/usb_a_receptacle.ply, pose: [500, 0, 100, 0, 1, 0, 0]}\n"
-                   "  - {name: usb_a_plug, mesh: " + kSource + "/cad/usb_a_plug.ply, pose: [500.4, -0.3, 106, 0, 0.99985, 0.01745, 0]}\n"
-                   "sweep:\n"
-                   "  center: {look_from: [455, -45, 166.64], look_at: [500, 0, 103], line: [1, -1, 0]}\n"
-                   "  direction: [0, 1, 0]\n  length_mm: 20\n  speed_mm_s: 50\n  profile_rate_hz: 1000\n");
-  test::write_text(dir / "tiny.yaml", "name: tiny\nseed: 3\nmode: random\ntrials: " + std::to_string(trials) + "\n"
-                   "conditions: {noise_scale: [0.5, 2], rotation_deg: 10, translation_mm: 0.5}\n" + extra +
-                   "scenes:\n  - name: usb\n    scene: scene.yaml\n    targets:\n"
-                   "      - {object: usb_a_receptacle, symmetry: none, reference_points: 20000}\n");
+std::string tiny_benchmark(const test::TempDir& dir, int trials = 3,
+                           const std::string& extra = "") {
+  test::write_text(
+      dir / "scene.yaml",
+      "objects:\n"
+      "  - {name: usb_a_receptacle, mesh: " +
+          kSource +
+          "/cad/usb_a_receptacle.ply, pose: [500, 0, 100, 0, 1, 0, 0]}\n"
+          "  - {name: usb_a_plug, mesh: " +
+          kSource +
+          "/cad/usb_a_plug.ply, pose: [500.4, -0.3, 106, 0, 0.99985, 0.01745, 0]}\n"
+          "sweep:\n"
+          "  center: {look_from: [455, -45, 166.64], look_at: [500, 0, 103], line: [1, -1, 0]}\n"
+          "  direction: [0, 1, 0]\n  length_mm: 20\n  speed_mm_s: 50\n  profile_rate_hz: 1000\n");
+  test::write_text(
+      dir / "tiny.yaml",
+      "name: tiny\nseed: 3\nmode: random\ntrials: " + std::to_string(trials) +
+          "\n"
+          "conditions: {noise_scale: [0.5, 2], rotation_deg: 10, translation_mm: 0.5}\n" +
+          extra +
+          "scenes:\n  - name: usb\n    scene: scene.yaml\n    targets:\n"
+          "      - {object: usb_a_receptacle, symmetry: none, reference_points: 20000}\n");
   return dir / "tiny.yaml";
 }
 
@@ -66,15 +77,21 @@ TEST(Bench, EveryShippedBenchmarkLoads) {
 
 TEST(Bench, BadDefinitionsAreErrorsNamingTheFile) {
   test::TempDir dir;
-  const std::string good = "name: x\nscenes:\n  - {name: a, scene: s.yaml, targets: [{object: o}]}\n";
+  const std::string good =
+      "name: x\nscenes:\n  - {name: a, scene: s.yaml, targets: [{object: o}]}\n";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"name: x\ntrails: 3\n" + good.substr(8), "unknown key 'trails'"},
       {"name: x\nconditions: {noise_scale: -1}\n" + good.substr(8), "noise_scale"},
-      {"name: x\nmode: random\nconditions: {noise_scale: [3, 1]}\n" + good.substr(8), "min above max"},
+      {"name: x\nmode: random\nconditions: {noise_scale: [3, 1]}\n" + good.substr(8),
+       "min above max"},
       {"name: x\n", "missing key 'scenes'"},
-      {"name: x\nscenes:\n  - {name: a, scene: s.yaml, targets: [{object: o}]}\n  - {name: a, scene: s.yaml, targets: [{object: o}]}\n", "duplicate"},
-      {"name: x\nscenes:\n  - {name: a, scene: s.yaml, targets: [{object: o, weak_rotation: w}]}\n", "weak_rotation"},
-      {"name: x\nscenes:\n  - {name: a, scene: s.yaml, targets: [{object: o, pivot: centre}]}\n", "pivot"},
+      {"name: x\nscenes:\n  - {name: a, scene: s.yaml, targets: [{object: o}]}\n  - {name: a, "
+       "scene: s.yaml, targets: [{object: o}]}\n",
+       "duplicate"},
+      {"name: x\nscenes:\n  - {name: a, scene: s.yaml, targets: [{object: o, weak_rotation: w}]}\n",
+       "weak_rotation"},
+      {"name: x\nscenes:\n  - {name: a, scene: s.yaml, targets: [{object: o, pivot: centre}]}\n",
+       "pivot"},
       {"name: x\ntrials: 0\n" + good.substr(8), "trials"},
       {"[1, 2", "not valid YAML"}};
   for (const auto& [text, what] : cases) {
@@ -92,8 +109,11 @@ TEST(Bench, BadDefinitionsAreErrorsNamingTheFile) {
 
 TEST(Bench, GridTrialsAreDeterministicAndShardsPartitionThem) {
   test::TempDir dir;
-  test::write_text(dir / "g.yaml", "name: g\ntrials: 5\nconditions: {noise_scale: [0.5, 1, 2], outlier_rate: [0, 0.01]}\n"
-                   "scenes:\n  - {name: a, scene: s.yaml, targets: [{object: o}]}\n  - {name: b, scene: s.yaml, targets: [{object: o}]}\n");
+  test::write_text(
+      dir / "g.yaml",
+      "name: g\ntrials: 5\nconditions: {noise_scale: [0.5, 1, 2], outlier_rate: [0, 0.01]}\n"
+      "scenes:\n  - {name: a, scene: s.yaml, targets: [{object: o}]}\n  - {name: b, scene: s.yaml, "
+      "targets: [{object: o}]}\n");
   const auto b = bench::load_benchmark(dir / "g.yaml");
   const auto t1 = bench::enumerate_trials(b), t2 = bench::enumerate_trials(b);
   ASSERT_EQ(t1.size(), 2u * 3 * 2 * 5);  // scenes x noise x outliers x repetitions
@@ -133,10 +153,12 @@ TEST(Bench, PerturbationsTurnAboutTheChosenPivot) {
   test::TempDir dir;
   tiny_benchmark(dir);  // writes scene.yaml
   for (const std::string pivot : {"origin", "view"}) {
-    test::write_text(dir / "p.yaml", "name: p\nseed: 5\nmode: random\ntrials: 4\n"
+    test::write_text(dir / "p.yaml",
+                     "name: p\nseed: 5\nmode: random\ntrials: 4\n"
                      "conditions: {rotation_deg: 30, translation_mm: 0.5}\n"
                      "scenes:\n  - name: usb\n    scene: scene.yaml\n    targets:\n"
-                     "      - {object: usb_a_receptacle, reference_points: 5000, pivot: " + pivot + "}\n");
+                     "      - {object: usb_a_receptacle, reference_points: 5000, pivot: " +
+                         pivot + "}\n");
     const auto b = bench::load_benchmark(dir / "p.yaml");
     const std::string out = dir / ("d_" + pivot);
     bench::generate_dataset(b, out, 2, {}, {"usb"});
@@ -144,13 +166,15 @@ TEST(Bench, PerturbationsTurnAboutTheChosenPivot) {
     for (int i = 0; i < 4; ++i) {
       const std::string gt = out + "/gt/" + std::to_string(i) + ".json";
       const auto t = io::read_json(gt).at("targets").at(0);
-      const Pose truth = io::pose_from_json(t.at("T_scan_object"), gt), nominal = io::pose_from_json(t.at("prior"), gt);
+      const Pose truth = io::pose_from_json(t.at("T_scan_object"), gt),
+                 nominal = io::pose_from_json(t.at("prior"), gt);
       const auto pv = t.at("pivot_mm").get<std::vector<double>>();
       const Eigen::Vector3d c(pv[0], pv[1], pv[2]);
       EXPECT_EQ(c.isZero(), pivot == "origin") << c.transpose();
       EXPECT_LE((truth * c - nominal * c).norm(), 0.5 + 1e-6) << pivot << " trial " << i;
       origin_moved = std::max(origin_moved, (truth.translation() - nominal.translation()).norm());
-      rotated = std::max(rotated, Eigen::AngleAxisd(nominal.rotation().transpose() * truth.rotation()).angle());
+      rotated = std::max(
+          rotated, Eigen::AngleAxisd(nominal.rotation().transpose() * truth.rotation()).angle());
     }
     EXPECT_GT(rotated, 10 * M_PI / 180);  // the draws do turn the part
     if (pivot == "view") {
@@ -162,7 +186,8 @@ TEST(Bench, PerturbationsTurnAboutTheChosenPivot) {
 TEST(Bench, ThresholdsRoundTripAndAreValidated) {
   test::TempDir dir;
   registration::Thresholds t;
-  t.rho_rot_deg = 15, t.rho_icp_vox2 = 0.02, t.ransac_iterations = 2000, t.voxel_mm["needle"] = 0.03;
+  t.rho_rot_deg = 15, t.rho_icp_vox2 = 0.02, t.ransac_iterations = 2000,
+  t.voxel_mm["needle"] = 0.03;
   t.benchmark = "quick", t.seed = 7, t.train = "0:3", t.test = "3:6", t.held_out_registrations = 9;
   t.held_out_success_rate = 0.875;
   registration::write_thresholds(dir / "t.yaml", t);
@@ -186,7 +211,8 @@ TEST(Bench, ThresholdsRoundTripAndAreValidated) {
     test::write_text(dir / "bad.yaml", x);
   };
   const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
-      {"rho_rot: {value: 15, unit: \"deg\"}", "rho_rot: {value: 15, unit: \"rad\"}", "expected 'deg'"},
+      {"rho_rot: {value: 15, unit: \"deg\"}", "rho_rot: {value: 15, unit: \"rad\"}",
+       "expected 'deg'"},
       {"rho_rot: {value: 15,", "rho_rot: {value: 500,", "out of range"},
       {"  rho_icp:", "  rho_icp_typo:", "unknown key"},
       {"  min_overlap: {value: 0.3, unit: \"fraction\"}\n", "", "missing key 'min_overlap'"},
@@ -212,7 +238,8 @@ TEST(Bench, ShardsMergedEqualOneRunAndAnInterruptedRunResumes) {
   bench::run_benchmark(b, quiet_run(dir / "single"));
   const auto single = without_timing(bench::read_results(dir / "single/results.jsonl"));
   ASSERT_EQ(single.size(), 4u);
-  for (const auto& r : single) EXPECT_GT(r.at("visible_points").get<long>(), 1000);  // the socket is in view
+  for (const auto& r : single)
+    EXPECT_GT(r.at("visible_points").get<long>(), 1000);  // the socket is in view
   std::vector<std::string> shards;
   for (int i = 0; i < 2; ++i) {
     auto s = quiet_run(dir / ("shard" + std::to_string(i)));
@@ -229,13 +256,16 @@ TEST(Bench, ShardsMergedEqualOneRunAndAnInterruptedRunResumes) {
   const std::string journal = test::read_bytes(dir / "single/results.jsonl");
   fs::create_directories(dir / "resumed");
   io::Json header = io::read_json(dir / "single/run.json");
-  for (const char* k : {"jobs", "dataset", "trials", "resumed", "records", "wall_s", "trials_per_s"}) header.erase(k);
+  for (const char* k :
+       {"jobs", "dataset", "trials", "resumed", "records", "wall_s", "trials_per_s"})
+    header.erase(k);
   const auto all = bench::read_results(dir / "single/results.jsonl");
   std::vector<io::Json> trial1;
   for (const auto& r : all)
     if (r.at("trial") == 1) trial1.push_back(r);
-  test::write_text(dir / "resumed/journal.jsonl", header.dump() + "\n" + io::Json{{"trial", 1}, {"records", trial1}}.dump() +
-                                                      "\n{\"trial\": 2, \"rec");
+  test::write_text(dir / "resumed/journal.jsonl",
+                   header.dump() + "\n" + io::Json{{"trial", 1}, {"records", trial1}}.dump() +
+                       "\n{\"trial\": 2, \"rec");
   const auto sum = bench::run_benchmark(b, quiet_run(dir / "resumed"));
   EXPECT_EQ(sum.resumed, 1u);  // trial 1 not repeated, the torn trial 2 run again
   EXPECT_EQ(sum.trials, 4u);
@@ -253,15 +283,22 @@ TEST(Bench, ShardsMergedEqualOneRunAndAnInterruptedRunResumes) {
 // "not visible"; a visible miss, a success, or a record without the count (older runs) does not.
 TEST(Bench, UnsuccessfulRecordsOfAbsentTargetsAreCountedApart) {
   auto rec = [](bool success, long visible, int determinable = -1) {
-    io::Json r = {{"success", success}, {"false_accept", false}, {"status", success ? "ok" : "failed"},
-                  {"expect", "pose"}, {"t_err_um", 1.0}, {"r_err_deg", 0.01},
+    io::Json r = {{"success", success},
+                  {"false_accept", false},
+                  {"status", success ? "ok" : "failed"},
+                  {"expect", "pose"},
+                  {"t_err_um", 1.0},
+                  {"r_err_deg", 0.01},
                   {"timing", {{"time_s", 0.1}, {"peak_rss_mb", 10.0}}}};
     if (visible >= 0) r["visible_points"] = visible;
     if (determinable >= 0) r["determinable"] = determinable == 1;
     return r;
   };
-  const std::vector<io::Json> rs = {rec(false, bench::kMinVisiblePoints - 1, 0), rec(false, bench::kMinVisiblePoints, 1),
-                                    rec(true, 3, 1), rec(false, -1), rec(false, 0, 0),
+  const std::vector<io::Json> rs = {rec(false, bench::kMinVisiblePoints - 1, 0),
+                                    rec(false, bench::kMinVisiblePoints, 1),
+                                    rec(true, 3, 1),
+                                    rec(false, -1),
+                                    rec(false, 0, 0),
                                     rec(true, bench::kMinVisiblePoints + 5, 1)};
   std::vector<const io::Json*> ptr;
   for (const auto& r : rs) ptr.push_back(&r);
@@ -284,8 +321,8 @@ TEST(Bench, BaselineRecordsShareTheScanFactsOfTheirTrial) {
   auto rec = [](const char* method, int trial, const char* object) {
     return io::Json{{"benchmark", "b"}, {"method", method}, {"trial", trial}, {"object", object}};
   };
-  std::vector<io::Json> rs = {rec("ceres", 3, "plug"), rec("open3d", 3, "plug"), rec("open3d", 3, "socket"),
-                              rec("open3d", 4, "plug")};
+  std::vector<io::Json> rs = {rec("ceres", 3, "plug"), rec("open3d", 3, "plug"),
+                              rec("open3d", 3, "socket"), rec("open3d", 4, "plug")};
   rs[0]["determinable"] = false, rs[0]["visible_points"] = 7;
   EXPECT_EQ(bench::share_scan_facts(rs), 1u);
   EXPECT_FALSE(rs[1].at("determinable").get<bool>());
@@ -301,8 +338,11 @@ TEST(Bench, DatasetIsByteIdenticalAndGivesTheSameRecordsAsMemory) {
   const auto b = bench::load_benchmark(tiny_benchmark(dir, 2));
   bench::generate_dataset(b, dir / "d1", 2);
   bench::generate_dataset(b, dir / "d2", 1);
-  for (const char* f : {"manifest.json", "scans/0.pcd", "scans/1.pcd", "gt/1.json", "refs/usb_usb_a_receptacle.pcd"})
-    EXPECT_EQ(test::read_bytes(dir / (std::string("d1/") + f)), test::read_bytes(dir / (std::string("d2/") + f))) << f;
+  for (const char* f : {"manifest.json", "scans/0.pcd", "scans/1.pcd", "gt/1.json",
+                        "refs/usb_usb_a_receptacle.pcd"})
+    EXPECT_EQ(test::read_bytes(dir / (std::string("d1/") + f)),
+              test::read_bytes(dir / (std::string("d2/") + f)))
+        << f;
   EXPECT_NO_THROW(bench::verify_dataset(dir / "d1"));
 
   auto from_disk = quiet_run(dir / "disk");
@@ -341,7 +381,8 @@ TEST(Bench, DatasetIsByteIdenticalAndGivesTheSameRecordsAsMemory) {
 TEST(Bench, TheCheckAtTheTruthSeesThePartAsItIsTurned) {
   test::TempDir dir;
   tiny_benchmark(dir);  // the scene
-  test::write_text(dir / "turned.yaml", "name: turned\nseed: 3\nmode: random\ntrials: 8\nmethods: [ceres]\n"
+  test::write_text(dir / "turned.yaml",
+                   "name: turned\nseed: 3\nmode: random\ntrials: 8\nmethods: [ceres]\n"
                    "conditions: {rotation_deg: 40, translation_mm: 0.5}\n"
                    "scenes:\n  - name: usb\n    scene: scene.yaml\n    targets:\n"
                    "      - {object: usb_a_receptacle, symmetry: none, reference_points: 20000}\n");
@@ -384,7 +425,8 @@ TEST(Bench, TheViewResampledAtThePoseFoundConfirmsATurnedSocket) {
   int sampled = 0;
   const auto view = [&](const Pose& T_scan_ref) {
     ++sampled;
-    return scan::view_reference(p.reference_mesh[k], T_scan_ref, p.scene.settings, tg.reference_points, b.seed);
+    return scan::view_reference(p.reference_mesh[k], T_scan_ref, p.scene.settings,
+                                tg.reference_points, b.seed);
   };
   const auto twice = registration::register_in_view(in.scan, p.reference[k], view, rs, 2);
   EXPECT_EQ(sampled, 1);
@@ -407,7 +449,7 @@ TEST(Bench, TuningWritesAValidatedThresholdsFileWithItsProvenance) {
   EXPECT_EQ(t.train, "0:1");
   EXPECT_EQ(t.test, "1:2");
   EXPECT_EQ(t.held_out_registrations, 1);  // one held-out trial, one target
-  EXPECT_EQ(r.history.size(), 3u);        // defaults + the two other rho_rot candidates
+  EXPECT_EQ(r.history.size(), 3u);         // defaults + the two other rho_rot candidates
   EXPECT_FALSE(r.baseline_train.better_than(r.best_train));  // never keeps a worse setting
   s.test = {0};
   EXPECT_THROW(bench::tune(b, s), Error);  // overlapping splits

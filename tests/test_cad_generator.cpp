@@ -54,7 +54,7 @@ TEST(Generator, NeedleEyeHasTheConfiguredWidth) {
     EXPECT_TRUE(passes(s, 0.f, half - 0.01f));
     EXPECT_FALSE(passes(s, 0.f, half + 0.01f));
     EXPECT_FALSE(passes(s, 0.f, -half - 0.01f));
-    EXPECT_TRUE(passes(s, 0.45f, 0.f));   // eye length 1.0: open up to x = 0.5
+    EXPECT_TRUE(passes(s, 0.45f, 0.f));  // eye length 1.0: open up to x = 0.5
     EXPECT_FALSE(passes(s, 0.52f, 0.f));
   }
   const auto g = cad::generate_model("needle");
@@ -76,8 +76,8 @@ TEST(Generator, UsbShellAndOpeningDimensions) {
   s.add_mesh(part(g, "usb_a_receptacle"));
   s.commit();
   auto depth = [&](float x, float y) { return s.intersect({x, y, -1.f}, {0, 0, 1}).t - 1.f; };
-  EXPECT_GT(depth(6.05f, -2.3f), 5.f);   // inside the opening corner: deep
-  EXPECT_LT(depth(6.15f, -2.3f), 0.01f); // plate face just outside
+  EXPECT_GT(depth(6.05f, -2.3f), 5.f);    // inside the opening corner: deep
+  EXPECT_LT(depth(6.15f, -2.3f), 0.01f);  // plate face just outside
 }
 
 TEST(Generator, RejectsBadParameters) {
@@ -93,7 +93,8 @@ TEST(Generator, DeterministicAndCommittedFilesUpToDate) {
   test::TempDir dir;
   for (const auto& info : cad::model_catalogue()) {
     const auto a = cad::generate_model(info.name), b = cad::generate_model(info.name);
-    for (size_t i = 0; i < a.parts.size(); ++i) ASSERT_EQ(a.parts[i].mesh.vertices, b.parts[i].mesh.vertices);
+    for (size_t i = 0; i < a.parts.size(); ++i)
+      ASSERT_EQ(a.parts[i].mesh.vertices, b.parts[i].mesh.vertices);
     for (const auto& file : cad::write_model(a, dir.path.string())) {
       const auto name = std::filesystem::path(file).filename().string();
       SCOPED_TRACE(name);

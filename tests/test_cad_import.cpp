@@ -1,17 +1,17 @@
 // CAD import on real files (tests/data/o2ac, Team O2AC, MIT) in every supported format.
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <gtest/gtest.h>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <IGESControl_Controller.hxx>
+#include <IGESControl_Writer.hxx>
 #include <STEPCAFControl_Writer.hxx>
+#include <STEPControl_Reader.hxx>
 #include <TDataStd_Name.hxx>
 #include <TDocStd_Document.hxx>
 #include <XCAFApp_Application.hxx>
 #include <XCAFDoc_DocumentTool.hxx>
 #include <XCAFDoc_ShapeTool.hxx>
-#include <IGESControl_Writer.hxx>
-#include <STEPControl_Reader.hxx>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
-#include <gtest/gtest.h>
 
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
@@ -39,8 +39,9 @@ void reexport(const std::string& in, const std::string& out, const char* format,
   const aiScene* scene = imp.ReadFile(in, aiProcess_Triangulate);
   ASSERT_NE(scene, nullptr) << imp.GetErrorString();
   aiScene* s = imp.GetOrphanedScene();
-  s->mRootNode->mTransformation = aiMatrix4x4(scale, 0, 0, 0, 0, scale, 0, 0, 0, 0, scale, 0, 0, 0, 0, 1) *
-                                  s->mRootNode->mTransformation;
+  s->mRootNode->mTransformation =
+      aiMatrix4x4(scale, 0, 0, 0, 0, scale, 0, 0, 0, 0, scale, 0, 0, 0, 0, 1) *
+      s->mRootNode->mTransformation;
   Assimp::Exporter exp;
   ASSERT_EQ(exp.Export(s, format, out), AI_SUCCESS) << format << ": " << exp.GetErrorString();
   delete s;
@@ -69,7 +70,8 @@ TEST(Import, StepDeflectionControlsTessellation) {
   cad::ImportSettings coarse, fine;
   coarse.deflection_mm = 0.1;
   fine.deflection_mm = 0.002;
-  const auto c = import(data("o2ac/02-PANEL.step"), coarse), f = import(data("o2ac/02-PANEL.step"), fine);
+  const auto c = import(data("o2ac/02-PANEL.step"), coarse),
+             f = import(data("o2ac/02-PANEL.step"), fine);
   EXPECT_GT(f.mesh.faces.size(), c.mesh.faces.size());
   EXPECT_LT((f.mesh.extent() - kPanel).cwiseAbs().maxCoeff(), 0.004);  // 2x deflection
 }
@@ -95,12 +97,15 @@ TEST(Import, EveryAssimpFormatRoundTrips) {
   // The panel re-exported by assimp to each format must import to the same box (1e-3 mm).
   test::TempDir dir;
   const std::string src = data("o2ac/02-PANEL.stl").string();
-  struct Case { const char* file; const char* format; float scale; };
+  struct Case {
+    const char* file;
+    const char* format;
+    float scale;
+  };
   for (const Case& c : {Case{"p.ply", "plyb", 1}, Case{"pa.ply", "ply", 1}, Case{"p.obj", "obj", 1},
                         Case{"p.dae", "collada", 0.001f},  // assimp writes <unit meter="1">
-                        Case{"p.stl", "stl", 1},
-                        Case{"p.gltf", "gltf2", 0.001f}, Case{"p.glb", "glb2", 0.001f},
-                        Case{"p.3mf", "3mf", 1}}) {
+                        Case{"p.stl", "stl", 1}, Case{"p.gltf", "gltf2", 0.001f},
+                        Case{"p.glb", "glb2", 0.001f}, Case{"p.3mf", "3mf", 1}}) {
     SCOPED_TRACE(c.file);
     reexport(src, dir / c.file, c.format, c.scale);
     const auto r = import(dir / c.file);
@@ -150,9 +155,10 @@ TEST(Import, UnitsAutoGuessDeclaredAndOverride) {
 
 TEST(Import, SelectsAPartByName) {
   test::TempDir dir;
-  test::write_text(dir / "two.obj",
-                   "o small\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n"
-                   "o big\nv 10 0 0\nv 15 0 0\nv 10 5 0\nv 10 0 5\nf 5 7 6\nf 5 6 8\nf 6 7 8\nf 5 8 7\n");
+  test::write_text(
+      dir / "two.obj",
+      "o small\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n"
+      "o big\nv 10 0 0\nv 15 0 0\nv 10 5 0\nv 10 0 5\nf 5 7 6\nf 5 6 8\nf 6 7 8\nf 5 8 7\n");
   cad::ImportSettings s;
   s.unit = Unit::Millimetre;
   EXPECT_NEAR(import(dir / "two.obj", s).mesh.extent().x(), 15.0, 1e-6);  // merged
@@ -176,8 +182,10 @@ TEST(Import, SelectsAStepPartByName) {
   Handle(TDocStd_Document) doc;
   XCAFApp_Application::GetApplication()->NewDocument("MDTV-XCAF", doc);
   const Handle(XCAFDoc_ShapeTool) tool = XCAFDoc_DocumentTool::ShapeTool(doc->Main());
-  TDataStd_Name::Set(tool->AddShape(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 4, 5, 6).Shape()), "small_box");
-  TDataStd_Name::Set(tool->AddShape(BRepPrimAPI_MakeBox(gp_Pnt(20, 0, 0), 10, 10, 10).Shape()), "big_box");
+  TDataStd_Name::Set(tool->AddShape(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 4, 5, 6).Shape()),
+                     "small_box");
+  TDataStd_Name::Set(tool->AddShape(BRepPrimAPI_MakeBox(gp_Pnt(20, 0, 0), 10, 10, 10).Shape()),
+                     "big_box");
   STEPCAFControl_Writer writer;
   ASSERT_TRUE(writer.Transfer(doc, STEPControl_AsIs));
   ASSERT_EQ(writer.Write((dir / "two.step").c_str()), IFSelect_RetDone);
@@ -198,7 +206,8 @@ TEST(Import, BadFilesGiveOneClearError) {
   test::write_text(dir / "trunc.stl", stl.substr(0, 1000));
   test::write_text(dir / "trunc.step", step.substr(0, step.size() / 2));
   test::write_text(dir / "garbage.obj", std::string("\x01\x02garbage\xff\xfe not an obj"));
-  test::write_text(dir / "garbage.ply", "ply\nformat ascii 1.0\nelement vertex 3\nend_header\n1 2\n");
+  test::write_text(dir / "garbage.ply",
+                   "ply\nformat ascii 1.0\nelement vertex 3\nend_header\n1 2\n");
   test::write_text(dir / "garbage.step", "ISO-10303-21;\nHEADER;\nthis is not step\n");
   test::write_text(dir / "empty.stl", "");
   test::write_text(dir / "nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");

@@ -33,16 +33,18 @@ TEST(Repair, CleanBoxIsWatertightWithUnitVolume) {
 }
 
 TEST(Repair, MergesDuplicatesDropsDegenerateAndDuplicateFaces) {
-  TriMesh m = soup(unit_box());  // 36 vertices, 8 distinct -> 28 merged
-  m.faces.push_back(m.faces[0]);                          // duplicate face
-  m.vertices.emplace_back(0.5f, 0.f, 0.f);                // collinear with vertices (0,0,0),(1,0,0)
-  m.faces.emplace_back(0, 1, static_cast<int>(m.vertices.size()) - 1);  // face 0 is (0,0,0),(0,1,0),(1,0,0)
-  m.faces.emplace_back(0, 0, 1);                          // repeated vertex
+  TriMesh m = soup(unit_box());             // 36 vertices, 8 distinct -> 28 merged
+  m.faces.push_back(m.faces[0]);            // duplicate face
+  m.vertices.emplace_back(0.5f, 0.f, 0.f);  // collinear with vertices (0,0,0),(1,0,0)
+  m.faces.emplace_back(
+      0, 1, static_cast<int>(m.vertices.size()) - 1);  // face 0 is (0,0,0),(0,1,0),(1,0,0)
+  m.faces.emplace_back(0, 0, 1);                       // repeated vertex
   const auto r = cad::check_and_repair(m, {}, "soup");
   EXPECT_EQ(r.duplicate_vertices_merged, 28u);
   EXPECT_EQ(r.duplicate_faces_removed, 1u);
-  EXPECT_EQ(r.degenerate_faces_removed, 1u);  // the repeated-vertex face; (0,1,new) is not collinear
-  EXPECT_EQ(m.faces.size(), 13u);             // the extra non-degenerate triangle stays
+  EXPECT_EQ(r.degenerate_faces_removed,
+            1u);                   // the repeated-vertex face; (0,1,new) is not collinear
+  EXPECT_EQ(m.faces.size(), 13u);  // the extra non-degenerate triangle stays
 }
 
 TEST(Repair, CollinearFaceIsRemoved) {

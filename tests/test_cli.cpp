@@ -21,7 +21,8 @@ Result run(const std::string& args, const test::TempDir& dir) {
   const std::string out = dir / "stdout.txt", err = dir / "stderr.txt";
   const std::string cmd = std::string(LASERFIT_BIN) + " " + args + " >" + out + " 2>" + err;
   const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, test::read_bytes(out), test::read_bytes(err)};
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, test::read_bytes(out),
+          test::read_bytes(err)};
 }
 
 size_t lines(const std::string& s) { return std::count(s.begin(), s.end(), '\n'); }
@@ -32,8 +33,8 @@ const std::string kPlug = std::string(LASERFIT_SOURCE_DIR) + "/cad/usb_a_plug.pl
 TEST(Cli, HelpForEverySubcommand) {
   test::TempDir dir;
   EXPECT_EQ(run("--help", dir).code, 0);
-  for (const char* sub : {"import", "refcloud", "cad", "scan", "register", "bench", "bench generate", "bench merge",
-                          "tune", "report"}) {
+  for (const char* sub : {"import", "refcloud", "cad", "scan", "register", "bench",
+                          "bench generate", "bench merge", "tune", "report"}) {
     const auto r = run(std::string(sub) + " --help", dir);
     EXPECT_EQ(r.code, 0) << sub;
     EXPECT_NE(r.out.find("--json"), std::string::npos) << sub;
@@ -68,7 +69,8 @@ TEST(Cli, RefcloudIsSeededAndRecordsItsProvenance) {
 
 TEST(Cli, ScanWritesCloudGroundTruthAndRawProfiles) {
   test::TempDir dir;
-  const std::string scene = std::string(LASERFIT_SOURCE_DIR) + "/datasets/scenes/needle_thread.yaml";
+  const std::string scene =
+      std::string(LASERFIT_SOURCE_DIR) + "/datasets/scenes/needle_thread.yaml";
   const std::string args = "scan " + scene + " --seed 3 --json --gt " + (dir / "gt.json") +
                            " --raw " + (dir / "raw.pcd") + " -o ";
   const auto r = run(args + (dir / "a.pcd"), dir);
@@ -108,9 +110,10 @@ TEST(Cli, BadInputOneLineNonZeroNoOutput) {
       {"import " + kPanel + " -o " + (dir / "no_such_dir/out.ply"), dir / "no_such_dir/out.ply"},
       {"import " + kPanel + " -o " + (dir / "out.xyz"), dir / "out.xyz"},
       {"import " + kPanel + " --unit furlong -o " + out, out},
-      {"refcloud " + kPlug + " -o " + cloud, cloud},                       // no count/density
+      {"refcloud " + kPlug + " -o " + cloud, cloud},                        // no count/density
       {"refcloud " + kPlug + " -n 100 --view '1 2 3' -o " + cloud, cloud},  // bad pose
-      {"refcloud " + kPlug + " -n 100 --view '0 0 500 1 0 0 0' -o " + cloud, cloud},  // sees nothing
+      {"refcloud " + kPlug + " -n 100 --view '0 0 500 1 0 0 0' -o " + cloud,
+       cloud},  // sees nothing
       {"refcloud " + kPlug + " -n 100 --method best -o " + cloud, cloud},
       {"cad teapot -o " + (dir / "cad"), dir / "cad/teapot.yaml"},
       {"cad needle --set eye_width=9 -o " + (dir / "cad"), dir / "cad/needle.ply"},
@@ -119,16 +122,26 @@ TEST(Cli, BadInputOneLineNonZeroNoOutput) {
       {"register --scan " + (dir / "trunc.stl") + " --ref " + (dir / "trunc.stl"), ""},
       {"register --scan " + (dir / "nan.pcd") + " --ref " + (dir / "nan.pcd"), ""},
       {"scan " + kPanel + " -o " + cloud, cloud},  // not a scene file
-      {"register --scan " + (dir / "nan.pcd") + " --ref " + (dir / "nan.pcd") + " --thresholds " + (dir / "empty.obj"), ""},
+      {"register --scan " + (dir / "nan.pcd") + " --ref " + (dir / "nan.pcd") + " --thresholds " +
+           (dir / "empty.obj"),
+       ""},
       {"bench " + (dir / "missing.yaml") + " --out " + (dir / "b"), dir / "b/results.jsonl"},
       {"bench " + kPanel + " --out " + (dir / "b"), dir / "b/results.jsonl"},  // not a benchmark
-      {"bench " + std::string(LASERFIT_SOURCE_DIR) + "/benchmarks/quick.yaml --shard 5/4 --out " + (dir / "b"), dir / "b/results.jsonl"},
-      {"bench " + std::string(LASERFIT_SOURCE_DIR) + "/benchmarks/quick.yaml --methods magic --out " + (dir / "b"), dir / "b/results.jsonl"},
+      {"bench " + std::string(LASERFIT_SOURCE_DIR) + "/benchmarks/quick.yaml --shard 5/4 --out " +
+           (dir / "b"),
+       dir / "b/results.jsonl"},
+      {"bench " + std::string(LASERFIT_SOURCE_DIR) +
+           "/benchmarks/quick.yaml --methods magic --out " + (dir / "b"),
+       dir / "b/results.jsonl"},
       {"bench merge " + (dir / "nothing") + " -o " + (dir / "m"), dir / "m/results.jsonl"},
-      {"tune " + std::string(LASERFIT_SOURCE_DIR) + "/benchmarks/quick.yaml --train 0:3 --test 2:4 -o " + (dir / "t.yaml"), dir / "t.yaml"},
+      {"tune " + std::string(LASERFIT_SOURCE_DIR) +
+           "/benchmarks/quick.yaml --train 0:3 --test 2:4 -o " + (dir / "t.yaml"),
+       dir / "t.yaml"},
       {"report " + (dir / "missing.jsonl") + " -o " + (dir / "rep"), dir / "rep/README.md"},
       {"report " + (dir / "empty.obj") + " -o " + (dir / "rep"), dir / "rep/README.md"},
-      {"scan " + std::string(LASERFIT_SOURCE_DIR) + "/datasets/scenes/needle_thread.yaml --noise maybe -o " + cloud, cloud},
+      {"scan " + std::string(LASERFIT_SOURCE_DIR) +
+           "/datasets/scenes/needle_thread.yaml --noise maybe -o " + cloud,
+       cloud},
   };
   for (const auto& [args, output] : cases) {
     SCOPED_TRACE(args);

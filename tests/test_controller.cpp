@@ -29,7 +29,8 @@ int points_on_part(const PointCloud& scan, const Pose& T_scan_part) {
 
 // Where the sensing arm at q, believing its sensor at T_world_sensor, sees a part truly at
 // T_world_part (its repeatability, ~0.05 mm, left out).
-Pose seen_at(const cell::Cell& c, const robot::Joints& q, const Pose& T_world_sensor, const Pose& T_world_part) {
+Pose seen_at(const cell::Cell& c, const robot::Joints& q, const Pose& T_world_sensor,
+             const Pose& T_world_part) {
   return T_world_sensor * (c.trueS.fk(q) * c.T_flange_sensor_true).inverse() * T_world_part;
 }
 }  // namespace
@@ -40,7 +41,8 @@ TEST(Controller, CellFilesLoadAndBadOnesNameTheProblem) {
   EXPECT_EQ(c.scene.objects[c.part].name, "thread_tip");
   test::TempDir dir;
   std::string text = test::read_bytes(kCells + "needle.yaml");
-  const std::string rel = "../datasets/scenes/needle_thread.yaml";  // relative to cells/: made absolute
+  const std::string rel =
+      "../datasets/scenes/needle_thread.yaml";  // relative to cells/: made absolute
   text.replace(text.find(rel), rel.size(), kCells + rel);
   const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
       {"x_mm: 0.425", "x_mm: -1", "clearance"},
@@ -79,15 +81,18 @@ TEST(Controller, InsertionCheckUsesTheClearanceAtTheMouth) {
   EXPECT_FALSE(cell::check_insertion(cs, target, off).success);
   off = part;
   // The part points down (-z of the target): +z is short of the eye, -z through it.
-  off.translation() += target.linear() * Eigen::Vector3d(cs.clearance.x_mm - 0.001, 0, cs.clearance.depth_mm - 0.001);
+  off.translation() += target.linear() *
+                       Eigen::Vector3d(cs.clearance.x_mm - 0.001, 0, cs.clearance.depth_mm - 0.001);
   EXPECT_TRUE(cell::check_insertion(cs, target, off).success);  // in the eye's mouth, in x
   off.translation() += target.linear() * Eigen::Vector3d(0, 0, 0.5);
-  EXPECT_NEAR(cell::check_insertion(cs, target, off).depth_mm, -(cs.clearance.depth_mm - 0.001 + 0.5), 1e-9);
+  EXPECT_NEAR(cell::check_insertion(cs, target, off).depth_mm,
+              -(cs.clearance.depth_mm - 0.001 + 0.5), 1e-9);
   EXPECT_FALSE(cell::check_insertion(cs, target, off).success);  // aligned, 0.5 mm above the mouth
   off.translation() += target.linear() * Eigen::Vector3d(0, 0, -5);
   EXPECT_TRUE(cell::check_insertion(cs, target, off).success);  // through the eye
   Pose tilted = part;
-  tilted.linear() = part.linear() * Eigen::AngleAxisd(11 * M_PI / 180, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  tilted.linear() = part.linear() *
+                    Eigen::AngleAxisd(11 * M_PI / 180, Eigen::Vector3d::UnitX()).toRotationMatrix();
   EXPECT_FALSE(cell::check_insertion(cs, target, tilted).success);
 }
 
@@ -114,15 +119,18 @@ TEST(Controller, ProprioceptionIc1BeatsIc2) {
   for (int k = 0; k < 3; ++k) {
     const auto su = controller::prepare_setting(c, k, s, 7);
     for (int start = 0; start < cs.start_configs; ++start) {
-      ic1 += controller::run_insertion(c, su, controller::Strategy::ProprioIC1, start, 100 + start, s).success;
-      const auto o = controller::run_insertion(c, su, controller::Strategy::ProprioIC2, start, 100 + start, s);
+      ic1 +=
+          controller::run_insertion(c, su, controller::Strategy::ProprioIC1, start, 100 + start, s)
+              .success;
+      const auto o =
+          controller::run_insertion(c, su, controller::Strategy::ProprioIC2, start, 100 + start, s);
       ic2 += o.success;
       ic2_err = std::min(ic2_err, std::hypot(o.insertion.x_mm, o.insertion.y_mm));
     }
   }
-  EXPECT_GE(ic1, 15);          // of 30: most IC1 insertions work (the paper: 60 %)
-  EXPECT_EQ(ic2, 0);           // none with IC2 (the paper: 0 %)
-  EXPECT_GT(ic2_err, 0.3);     // every IC2 attempt misses by more than 0.3 mm
+  EXPECT_GE(ic1, 15);       // of 30: most IC1 insertions work (the paper: 60 %)
+  EXPECT_EQ(ic2, 0);        // none with IC2 (the paper: 0 %)
+  EXPECT_GT(ic2_err, 0.3);  // every IC2 attempt misses by more than 0.3 mm
 }
 
 TEST(Controller, RefusesLargeCorrectionsAndUntrustedRegistrations) {
@@ -162,7 +170,8 @@ TEST(Controller, UnobservableSpinIsTakenFromThePrior) {
   // keeps the measured position and shaft direction and takes the prior's spin. Tolerance 1e-9
   // (pure rotation algebra).
   const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
-  const Pose prior = pose_from_tq({500, 40, 230}, Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized())));
+  const Pose prior = pose_from_tq({500, 40, 230}, Eigen::Quaterniond(Eigen::AngleAxisd(
+                                                      0.3, Eigen::Vector3d(1, 2, 3).normalized())));
   // Measured: the prior tilted 2 degrees about y and spun 40 degrees about the shaft, moved 0.4 mm.
   Pose T = prior * Eigen::AngleAxisd(0.035, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(0.7, x);
   T.translation() += Eigen::Vector3d(0.4, -0.1, 0.2);
@@ -174,7 +183,8 @@ TEST(Controller, UnobservableSpinIsTakenFromThePrior) {
   EXPECT_LT(std::abs(d.vec().dot(x)), 1e-9);
   // Only a spin away from the prior: the prior's orientation comes back.
   const Pose spun = prior * Eigen::AngleAxisd(-1.2, x);
-  EXPECT_LT((controller::with_prior_spin(spun, prior, x).rotation() - prior.rotation()).norm(), 1e-9);
+  EXPECT_LT((controller::with_prior_spin(spun, prior, x).rotation() - prior.rotation()).norm(),
+            1e-9);
 }
 
 // A part outside the scene's 6 mm sweep (8 mm along the sweep direction) returns nothing from
@@ -220,13 +230,15 @@ TEST(Controller, RaisedScanSeesAPartAboveTheMeasuringRange) {
   const PointCloud near = controller::scan_cell(c, su, part, 5, g, cs.search_sweep_mm);
   EXPECT_EQ(points_on_part(near, seen_at(c, su.q_scan, su.T_world_sensor_start, part)), 0);
   const PointCloud raised = controller::scan_cell(c, su, part, 5, g, cs.search_sweep_mm, true);
-  EXPECT_GE(points_on_part(raised, seen_at(c, su.q_scan_raised, su.T_world_sensor_raised, part)), 30);
+  EXPECT_GE(points_on_part(raised, seen_at(c, su.q_scan_raised, su.T_world_sensor_raised, part)),
+            30);
 }
 
 namespace {
 // A measured target and the part's goal `above_mm` above it, pointing down (-z) into it.
 Pose goal_above(controller::Measurement& m, double above_mm) {
-  m.T_scan_target = pose_from_tq({450, 100, 250}, Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ())));
+  m.T_scan_target = pose_from_tq(
+      {450, 100, 250}, Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ())));
   Pose goal = Pose::Identity();
   goal.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
   goal.translation() = Eigen::Vector3d(0, 0, above_mm);
@@ -265,8 +277,8 @@ TEST(Controller, AxialTrustRegionLimitsOnlyTheMoveAlongTheAxis) {
     m.T_scan_part.translation() += -along * axis + 0.04 * side;
     const auto c = controller::limit_axial(controller::compute_correction(m, goal, false), 0.3);
     const double expect = std::clamp(along, -0.3, 0.3);
-    EXPECT_NEAR(c.axial_mm, expect, 1e-9) << along;   // at most the gate along the axis,
-    EXPECT_NEAR(c.lateral_mm, 0.04, 1e-9) << along;   // the lateral correction untouched
+    EXPECT_NEAR(c.axial_mm, expect, 1e-9) << along;  // at most the gate along the axis,
+    EXPECT_NEAR(c.lateral_mm, 0.04, 1e-9) << along;  // the lateral correction untouched
     EXPECT_LT((c.delta.translation() - (expect * axis - 0.04 * side)).norm(), 1e-9) << along;
   }
 }

@@ -25,8 +25,8 @@ TEST(Pose, ParsesTranslationQuaternionAndMatrix) {
 
 TEST(Pose, RejectsMalformedPoses) {
   EXPECT_THROW(parse_pose("1 2 3"), Error);
-  EXPECT_THROW(parse_pose("1 2 3 2 0 0 0"), Error);         // not a unit quaternion
-  EXPECT_THROW(parse_pose("1 2 nan 1 0 0 0"), Error);       // NaN
+  EXPECT_THROW(parse_pose("1 2 3 2 0 0 0"), Error);    // not a unit quaternion
+  EXPECT_THROW(parse_pose("1 2 nan 1 0 0 0"), Error);  // NaN
   EXPECT_THROW(parse_pose("1 2 3 1 0 0 zero"), Error);
   EXPECT_THROW(parse_pose("2 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1"), Error);  // scaled, not rigid
 }
@@ -50,7 +50,7 @@ TEST(Units, ParseScaleAndGuess) {
   EXPECT_EQ(unit_to_mm(parse_unit("m")), 1000.0);
   EXPECT_EQ(unit_to_mm(parse_unit("in")), 25.4);
   EXPECT_THROW(parse_unit("furlong"), Error);
-  EXPECT_EQ(guess_unit_from_extent(0.03), Unit::Metre);      // a 30 mm part written in metres
+  EXPECT_EQ(guess_unit_from_extent(0.03), Unit::Metre);  // a 30 mm part written in metres
   EXPECT_EQ(guess_unit_from_extent(70.0), Unit::Millimetre);
 }
 

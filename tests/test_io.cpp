@@ -63,8 +63,10 @@ TEST(CloudIo, RefusesBadFiles) {
   test::write_text(dir / "truncated.pcd", good.substr(0, good.size() - 20));
   test::write_text(dir / "empty.pcd", "");
   test::write_text(dir / "garbage.pcd", "not a point cloud at all\n");
-  test::write_text(dir / "garbage.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n");
-  for (const char* f : {"truncated.pcd", "empty.pcd", "garbage.pcd", "garbage.ply", "missing.pcd"}) {
+  test::write_text(dir / "garbage.ply",
+                   "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n");
+  for (const char* f :
+       {"truncated.pcd", "empty.pcd", "garbage.pcd", "garbage.ply", "missing.pcd"}) {
     SCOPED_TRACE(f);
     try {
       io::read_cloud(dir / f);

@@ -17,7 +17,7 @@ Pose rotated(const Pose& T, double deg, const Eigen::Vector3d& axis_object) {
   R.linear() = T.rotation() * Eigen::AngleAxisd(deg * M_PI / 180, axis_object).toRotationMatrix();
   return R;
 }
-const std::vector<Eigen::Vector3f> kBox = {{-5, -2, 0}, {5, -2, 0}, {5, 2, 0}, {-5, 2, 0},
+const std::vector<Eigen::Vector3f> kBox = {{-5, -2, 0},  {5, -2, 0},  {5, 2, 0},  {-5, 2, 0},
                                            {-5, -2, 10}, {5, -2, 10}, {5, 2, 10}, {-5, 2, 10}};
 }  // namespace
 
@@ -29,7 +29,8 @@ TEST(Metrics, PlainErrorsWithoutSymmetry) {
   const auto e = m::pose_error(est, gt, m::Symmetry{}, kBox);
   EXPECT_NEAR(e.t_mm, 0.005, 1e-12);
   EXPECT_NEAR(e.r_deg, 0.3, 1e-9);
-  // MSSD: the farthest corner moves by the translation plus 0.3 deg about x at radius sqrt(2^2+10^2).
+  // MSSD: the farthest corner moves by the translation plus 0.3 deg about x at radius
+  // sqrt(2^2+10^2).
   EXPECT_GT(e.mssd_mm, 0.005);
   EXPECT_LT(e.mssd_mm, 0.005 + std::hypot(2.0, 10.0) * 0.3 * M_PI / 180 + 1e-9);
 }
@@ -39,7 +40,8 @@ TEST(Metrics, DiscreteSymmetryForgivesTheTwin) {
   const m::Symmetry s = m::parse_symmetry("discrete 2 z");
   const auto flipped = m::pose_error(rotated(gt, 180.2, Eigen::Vector3d::UnitZ()), gt, s, kBox);
   EXPECT_NEAR(flipped.r_deg, 0.2, 1e-9);  // 180.2 deg = the twin + 0.2 deg
-  const auto none = m::pose_error(rotated(gt, 180.2, Eigen::Vector3d::UnitZ()), gt, m::Symmetry{}, kBox);
+  const auto none =
+      m::pose_error(rotated(gt, 180.2, Eigen::Vector3d::UnitZ()), gt, m::Symmetry{}, kBox);
   EXPECT_NEAR(none.r_deg, 179.8, 1e-9);
 }
 

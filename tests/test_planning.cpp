@@ -28,7 +28,9 @@ Pose random_correction(const Pose& start, double max_mm, double max_deg, std::mt
   while (axis.norm() > 1 || axis.norm() < 1e-3);
   Pose goal = start;
   goal.translation() += t * max_mm;
-  goal.linear() = start.linear() * Eigen::AngleAxisd(uniform01(g) * max_deg * M_PI / 180, axis.normalized()).toRotationMatrix();
+  goal.linear() =
+      start.linear() *
+      Eigen::AngleAxisd(uniform01(g) * max_deg * M_PI / 180, axis.normalized()).toRotationMatrix();
   return goal;
 }
 
@@ -48,7 +50,10 @@ TEST(Planning, RandomCorrectionsNeverViolateTheLimits) {
     ASSERT_TRUE(tr.ok) << tr.reason;
     EXPECT_LT((tr.samples.front().T_base_flange.matrix() - start.matrix()).norm(), 1e-9);
     EXPECT_LT((tr.samples.back().T_base_flange.translation() - goal.translation()).norm(), 1e-9);
-    EXPECT_LT(Eigen::AngleAxisd(tr.samples.back().T_base_flange.linear().transpose() * goal.linear()).angle(), 1e-9);
+    EXPECT_LT(
+        Eigen::AngleAxisd(tr.samples.back().T_base_flange.linear().transpose() * goal.linear())
+            .angle(),
+        1e-9);
     EXPECT_NEAR(tr.samples[1].t_s - tr.samples[0].t_s, 1e-3, 1e-12);
     const auto& L = s.limits;
     EXPECT_LE(tr.peak_v_mm_s, L.v_mm_s);
@@ -75,7 +80,9 @@ TEST(Planning, CorrectionsAboveTheAmplitudeLimitAreRefused) {
   EXPECT_TRUE(tr.samples.empty());
   EXPECT_NE(tr.reason.find("exceeds"), std::string::npos) << tr.reason;
   Pose turned = start;
-  turned.linear() = start.linear() * Eigen::AngleAxisd((s.max_rotation_deg + 0.1) * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  turned.linear() = start.linear() * Eigen::AngleAxisd((s.max_rotation_deg + 0.1) * M_PI / 180,
+                                                       Eigen::Vector3d::UnitZ())
+                                         .toRotationMatrix();
   EXPECT_FALSE(planning::plan_correction(start, turned, s).ok);
   EXPECT_THROW(planning::write_trajectory_csv(dir / "t.csv", tr), Error);
   EXPECT_FALSE(std::filesystem::exists(dir / "t.csv"));

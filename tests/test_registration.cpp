@@ -47,11 +47,13 @@ PointCloud scan_of(const TriMesh& m, const Pose& T_scan_ref, const Eigen::Vector
 }
 
 Pose test_pose() {
-  return pose_from_tq({512.3, -40.7, 101.9},
-                      Eigen::Quaterniond(Eigen::AngleAxisd(0.35, Eigen::Vector3d(1, 2, 3).normalized())));
+  return pose_from_tq({512.3, -40.7, 101.9}, Eigen::Quaterniond(Eigen::AngleAxisd(
+                                                 0.35, Eigen::Vector3d(1, 2, 3).normalized())));
 }
 
-double trans_err_um(const Pose& a, const Pose& b) { return (a.translation() - b.translation()).norm() * 1e3; }
+double trans_err_um(const Pose& a, const Pose& b) {
+  return (a.translation() - b.translation()).norm() * 1e3;
+}
 double rot_err_deg(const Pose& a, const Pose& b) {
   return Eigen::AngleAxisd(a.rotation().transpose() * b.rotation()).angle() * 180 / M_PI;
 }
@@ -70,7 +72,8 @@ TEST(Registration, RecoversAKnownPoseOfTheUsbPlug) {
     s.pre.use_viewpoint = true;
     s.pre.viewpoint = viewpoint;
     // The paper's orientation prior: q0 from the gripper, here 10 degrees off the truth.
-    s.q0 = Eigen::Quaterniond(T.rotation() * Eigen::AngleAxisd(0.17, Eigen::Vector3d::UnitX()).toRotationMatrix());
+    s.q0 = Eigen::Quaterniond(T.rotation() *
+                              Eigen::AngleAxisd(0.17, Eigen::Vector3d::UnitX()).toRotationMatrix());
     const auto r = reg::register_cloud(scan, full_ref(plug), s);
     std::cout << method << ": " << reg::status_name(r.status) << " " << r.reason << " t_err "
               << trans_err_um(r.T_scan_ref, T) << " um, r_err " << rot_err_deg(r.T_scan_ref, T)
@@ -113,7 +116,8 @@ reg::RegistrationSettings settings_for(const Scanned& s, const Pose& truth) {
   reg::RegistrationSettings rs;
   rs.pre.use_viewpoint = true;
   rs.pre.viewpoint = s.viewpoint;
-  rs.q0 = Eigen::Quaterniond(truth.rotation() * Eigen::AngleAxisd(0.17, Eigen::Vector3d::UnitZ()).toRotationMatrix());
+  rs.q0 = Eigen::Quaterniond(truth.rotation() *
+                             Eigen::AngleAxisd(0.17, Eigen::Vector3d::UnitZ()).toRotationMatrix());
   return rs;
 }
 }  // namespace
@@ -127,14 +131,16 @@ TEST(Registration, RecoversTheUsbPlugFromANoisyScan) {
   // what pins the plug along its length (the paper scans the plug from the front too).
   const Eigen::Vector3d front = T.rotation() * Eigen::Vector3d(0, -std::sin(0.44), std::cos(0.44));
   const auto scanned = simulate(plug, T, front);
-  const auto r = reg::register_cloud(scanned.cloud, full_ref(plug), settings_for(scanned, scanned.T_scan_object));
+  const auto r = reg::register_cloud(scanned.cloud, full_ref(plug),
+                                     settings_for(scanned, scanned.T_scan_object));
   // Tolerance 20 um / 0.1 deg (measured 10.4 um, 0.016 deg); the success criterion is
   // 50 um / 0.5 deg. The campaign (make bench-registration) measures the distribution.
   EXPECT_EQ(r.status, reg::Status::Ok) << r.reason;
   EXPECT_LT(trans_err_um(r.T_scan_ref, scanned.T_scan_object), 20.0);
   EXPECT_LT(rot_err_deg(r.T_scan_ref, scanned.T_scan_object), 0.1);
-  std::cout << "noisy scan: t_err " << trans_err_um(r.T_scan_ref, scanned.T_scan_object) << " um, r_err "
-            << rot_err_deg(r.T_scan_ref, scanned.T_scan_object) << " deg, rmse " << r.inlier_rmse_mm * 1e3 << " um\n";
+  std::cout << "noisy scan: t_err " << trans_err_um(r.T_scan_ref, scanned.T_scan_object)
+            << " um, r_err " << rot_err_deg(r.T_scan_ref, scanned.T_scan_object) << " deg, rmse "
+            << r.inlier_rmse_mm * 1e3 << " um\n";
 }
 
 TEST(Registration, ADeclaredWeakDofIsAmbiguousUnlessClearlyPinned) {
@@ -150,13 +156,15 @@ TEST(Registration, ADeclaredWeakDofIsAmbiguousUnlessClearlyPinned) {
   const double ratio = r.hessian_eigenvalues[0] / r.hessian_eigenvalues[5];
   const Eigen::Matrix<double, 6, 1> d = r.weakest_direction;
   const bool rot = d.head<3>().norm() > d.tail<3>().norm();
-  const Eigen::Vector3d axis = r.T_scan_ref.rotation().transpose() * (rot ? d.head<3>() : d.tail<3>()).normalized();
+  const Eigen::Vector3d axis =
+      r.T_scan_ref.rotation().transpose() * (rot ? d.head<3>() : d.tail<3>()).normalized();
   (rot ? rs.trust.weak_rotation : rs.trust.weak_translation) = axis;
   rs.trust.declared_weak_ratio = 2 * ratio;
   const auto weak = reg::register_cloud(scanned.cloud, full_ref(plug), rs);
   ASSERT_EQ(weak.status, reg::Status::Ambiguous) << weak.reason;
   const Eigen::Vector3d in_scan = weak.T_scan_ref.rotation() * axis;
-  EXPECT_TRUE(rot ? reg::weakest_is_rotation_about(weak, in_scan) : reg::weakest_is_translation_along(weak, in_scan))
+  EXPECT_TRUE(rot ? reg::weakest_is_rotation_about(weak, in_scan)
+                  : reg::weakest_is_translation_along(weak, in_scan))
       << weak.reason;
   rs.trust.declared_weak_ratio = 0.5 * ratio;
   EXPECT_EQ(reg::register_cloud(scanned.cloud, full_ref(plug), rs).status, reg::Status::Ok);
@@ -269,7 +277,10 @@ TEST(Registration, CropNearThePriorKeepsOnlyPointsWithinTheRadius) {
   Pose prior = Pose::Identity();
   prior.translation() = Eigen::Vector3d(10, 0, 0);
   PointCloud scan;
-  scan.points = {{11.0f, 0.5f, 0.0f}, {12.0f, 0.0f, 0.99f}, {11.0f, 0.0f, 1.01f}, {20.0f, 0.0f, 0.0f},
+  scan.points = {{11.0f, 0.5f, 0.0f},
+                 {12.0f, 0.0f, 0.99f},
+                 {11.0f, 0.0f, 1.01f},
+                 {20.0f, 0.0f, 0.0f},
                  {9.5f, 0.0f, 0.0f}};
   scan.width = 5;
   const PointCloud near = reg::crop_near(scan, ref, prior, 1.0);
@@ -297,7 +308,8 @@ TEST(Registration, APartCutInTwoByAShadowIsPinnedByBothPieces) {
   PointCloud scan;
   for (const auto& p : seen.points) {
     const double x = p.x();  // along the needle, head at -1
-    if (x < 12 && (x < -0.7 || x > -0.4)) scan.points.push_back((T * p.cast<double>()).cast<float>());
+    if (x < 12 && (x < -0.7 || x > -0.4))
+      scan.points.push_back((T * p.cast<double>()).cast<float>());
   }
   const Eigen::Vector3d vp = T * v.T_mesh_sensor[0].translation();
   scan.width = int(scan.points.size());
@@ -306,16 +318,20 @@ TEST(Registration, APartCutInTwoByAShadowIsPinnedByBothPieces) {
   rs.pre.voxel_mm = 0.03;  // the needle's tuned voxel: the strip is 10 voxels wide
   // The arm's prior 0.7 mm off along the shaft: the points within 0.3 mm of the reference placed
   // there miss the head piece, and so does the cluster nearest to it.
-  rs.prior = T * pose_from_tq({0.7, 0.1, 0}, Eigen::Quaterniond(Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitY())));
+  rs.prior =
+      T * pose_from_tq({0.7, 0.1, 0},
+                       Eigen::Quaterniond(Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitY())));
   rs.q0 = Eigen::Quaterniond(rs.prior->rotation());
   rs.prior_radius_mm = 0.3;
   const auto parts = reg::segment_clusters(scan, rs.pre.voxel_mm, 3 * rs.pre.voxel_mm, 20);
   ASSERT_GE(parts.size(), 2u);  // the strip separates the head from the shaft
   int cluster = -1;
-  const auto r = reg::register_segmented(scan, full_ref(needle), rs, 1, &cluster);  // near the prior only
+  const auto r =
+      reg::register_segmented(scan, full_ref(needle), rs, 1, &cluster);  // near the prior only
   ASSERT_NE(r.status, reg::Status::Failed) << r.reason;
   EXPECT_LE(r.unobservable, 1) << r.reason;
-  EXPECT_EQ(cluster, int(parts.size()) + 1);  // the regrown candidate won (after near-prior + clusters)
+  EXPECT_EQ(cluster,
+            int(parts.size()) + 1);  // the regrown candidate won (after near-prior + clusters)
   const Eigen::Vector3d axis = T.rotation().col(0);
   const Eigen::Vector3d dt = r.T_scan_ref.translation() - T.translation();
   EXPECT_LT(std::abs(dt.dot(axis)) * 1e3, 10.0);

@@ -32,7 +32,9 @@ Joints ready() {
 }
 
 double pos_err(const Pose& a, const Pose& b) { return (a.translation() - b.translation()).norm(); }
-double rot_err(const Pose& a, const Pose& b) { return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle(); }
+double rot_err(const Pose& a, const Pose& b) {
+  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle();
+}
 
 }  // namespace
 

@@ -50,7 +50,8 @@ TEST(Uniform, FacesGetPointsInProportionToArea) {
   const auto c = sampling::sample_uniform(kBox, count(n));
   size_t on_z = 0, on_y = 0, on_x = 0;
   for (const auto& nrm : c.normals) {
-    on_z += std::abs(nrm.z()) > 0.5f, on_y += std::abs(nrm.y()) > 0.5f, on_x += std::abs(nrm.x()) > 0.5f;
+    on_z += std::abs(nrm.z()) > 0.5f, on_y += std::abs(nrm.y()) > 0.5f,
+        on_x += std::abs(nrm.x()) > 0.5f;
   }
   // Expected fractions 400/2200, 600/2200, 1200/2200; tolerance 5 binomial sigmas.
   for (auto [got, p] : {std::pair{on_z, 400.0 / 2200}, {on_y, 600.0 / 2200}, {on_x, 1200.0 / 2200}})
@@ -87,7 +88,9 @@ TEST(PoissonDisk, ExactCountAndEvenSpacing) {
 }
 
 TEST(PoissonDisk, ThreadCountIndependent) {
-  auto run = [] { return sampling::sample_poisson_disk(kBox, count(3000, Method::PoissonDisk, 5)); };
+  auto run = [] {
+    return sampling::sample_poisson_disk(kBox, count(3000, Method::PoissonDisk, 5));
+  };
   const PointCloud one = test::with_threads(1, run), two = test::with_threads(2, run);
   EXPECT_EQ(one.points, two.points);
 }
@@ -96,7 +99,8 @@ namespace {
 sampling::ViewSettings from_above(const TriMesh& m, double margin = 5.0) {
   sampling::ViewSettings v;
   const Eigen::Vector3d top(m.bbox().center().x(), m.bbox().center().y(), m.bbox().max().z());
-  v.T_mesh_sensor.push_back(look_at(top + Eigen::Vector3d(0, 0, v.geometry.z_min_mm + margin), top));
+  v.T_mesh_sensor.push_back(
+      look_at(top + Eigen::Vector3d(0, 0, v.geometry.z_min_mm + margin), top));
   return v;
 }
 }  // namespace
@@ -153,7 +157,9 @@ TEST(Visible, ViewsAreMergedAndImpossibleViewsRejected) {
 
 TEST(Visible, ThreadCountIndependent) {
   const TriMesh cube = test::box_mesh({-5, -5, -5}, {5, 5, 5});
-  auto run = [&] { return sampling::sample_visible(cube, from_above(cube), count(5000, Method::PoissonDisk, 9)); };
+  auto run = [&] {
+    return sampling::sample_visible(cube, from_above(cube), count(5000, Method::PoissonDisk, 9));
+  };
   const PointCloud one = test::with_threads(1, run), two = test::with_threads(2, run);
   EXPECT_EQ(one.points, two.points);
 }

@@ -23,7 +23,8 @@ namespace {
 // 90 mm above looking down, laser line along x, sweeping 10 mm along base y across the block edge.
 scan::ScanScene step_scene(double step_mm, bool noise) {
   scan::ScanScene sc;
-  sc.objects.push_back({"plate", "", Pose::Identity(), false, test::box_mesh({-30, -30, -5}, {30, 30, 0})});
+  sc.objects.push_back(
+      {"plate", "", Pose::Identity(), false, test::box_mesh({-30, -30, -5}, {30, 30, 0})});
   if (step_mm > 0)
     sc.objects.push_back({"block", "", Pose::Identity(), false,
                           test::box_mesh({-5, 0, 0}, {5, 20, float(step_mm)})});
@@ -31,7 +32,7 @@ scan::ScanScene step_scene(double step_mm, bool noise) {
   s.sweep.T_base_sensor_start = look_at({0, -5, 90}, {0, -5, 0});
   s.sweep.direction = {0, -1, 0};  // sensor y = base -y here; move along base +y
   s.sweep.length_mm = 10;
-  s.sweep.profile_rate_hz = 200;   // 50 um between profiles: fast tests
+  s.sweep.profile_rate_hz = 200;  // 50 um between profiles: fast tests
   s.noise.enabled = s.motion.enabled = noise;
   return sc;
 }
@@ -47,7 +48,8 @@ Eigen::Vector3d fit_plane(const std::vector<Eigen::Vector3d>& p) {
 std::vector<Eigen::Vector3d> valid_points(const PointCloud& c, int label) {
   std::vector<Eigen::Vector3d> out;
   for (size_t i = 0; i < c.size(); ++i)
-    if (c.points[i].allFinite() && (label < 0 || c.labels[i] == label)) out.push_back(c.points[i].cast<double>());
+    if (c.points[i].allFinite() && (label < 0 || c.labels[i] == label))
+      out.push_back(c.points[i].cast<double>());
   return out;
 }
 
@@ -86,8 +88,8 @@ TEST(Scan, DepthNoiseHasTheConfiguredSigma) {
     // Noise is along the laser ray with sigma / cos(incidence); on a plane facing the sensor its
     // z component has exactly sigma. Tolerance: 10 % (the issue's), sampling error here ~0.2 %.
     const double measured = std::sqrt(ss / pts.size()) * 1e3;
-    std::cout << "depth noise: configured " << sigma_um << " um, measured " << measured << " um over "
-              << pts.size() << " points\n";
+    std::cout << "depth noise: configured " << sigma_um << " um, measured " << measured
+              << " um over " << pts.size() << " points\n";
     EXPECT_NEAR(measured, sigma_um, 0.1 * sigma_um);
   }
 }
@@ -97,7 +99,8 @@ TEST(Scan, StepHeightMeasuredWithin2um) {
   const auto r = scan::simulate_scan(step_scene(h, true));  // every default noise source on
   std::vector<Eigen::Vector3d> low, high;
   for (const auto& p : valid_points(r.cloud, -1)) {
-    if (std::abs(p.x()) > 6.0 && std::abs(p.x()) < 11.0 && p.y() > 1.0 && p.y() < 4.5) low.push_back(p);
+    if (std::abs(p.x()) > 6.0 && std::abs(p.x()) < 11.0 && p.y() > 1.0 && p.y() < 4.5)
+      low.push_back(p);
     if (std::abs(p.x()) < 4.0 && p.y() > 1.0 && p.y() < 4.5) high.push_back(p);
   }
   ASSERT_GT(low.size(), 10000u);
@@ -106,7 +109,8 @@ TEST(Scan, StepHeightMeasuredWithin2um) {
   double sum = 0;
   for (const auto& p : high) sum += p.z() - (plane(0) + plane(1) * p.x() + plane(2) * p.y());
   std::cout << "step: true " << h << " mm, measured " << sum / high.size() << " mm ("
-            << (sum / high.size() - h) * 1e3 << " um) from " << low.size() << " + " << high.size() << " points\n";
+            << (sum / high.size() - h) * 1e3 << " um) from " << low.size() << " + " << high.size()
+            << " points\n";
   EXPECT_NEAR(sum / high.size(), h, 2e-3);
 }
 
@@ -119,7 +123,8 @@ TEST(Scan, CameraShadowFallsOnTheSideAwayFromTheCamera) {
     SCOPED_TRACE(camera_over_block);
     auto sc = step_scene(2.0, false);
     if (camera_over_block) {
-      sc.settings.sweep.T_base_sensor_start = look_at({0, -5, 90}, {0, -5, 0}, -Eigen::Vector3d::UnitX());
+      sc.settings.sweep.T_base_sensor_start =
+          look_at({0, -5, 90}, {0, -5, 0}, -Eigen::Vector3d::UnitX());
       sc.settings.sweep.direction = {0, 1, 0};  // sensor y = base +y now
     }
     const auto r = scan::simulate_scan(sc);
@@ -137,8 +142,10 @@ TEST(Scan, CameraShadowFallsOnTheSideAwayFromTheCamera) {
 TEST(Scan, SameSeedSameBytesWhateverTheThreadCount) {
   test::TempDir dir;
   const auto sc = step_scene(2.0, true);
-  io::write_cloud(dir / "one.pcd", test::with_threads(1, [&] { return scan::simulate_scan(sc).cloud; }));
-  io::write_cloud(dir / "two.pcd", test::with_threads(2, [&] { return scan::simulate_scan(sc).cloud; }));
+  io::write_cloud(dir / "one.pcd",
+                  test::with_threads(1, [&] { return scan::simulate_scan(sc).cloud; }));
+  io::write_cloud(dir / "two.pcd",
+                  test::with_threads(2, [&] { return scan::simulate_scan(sc).cloud; }));
   auto other = sc;
   other.seed = 2;
   io::write_cloud(dir / "three.pcd", scan::simulate_scan(other).cloud);
@@ -182,7 +189,7 @@ TEST(Scan, MatchesTheViewDependentReferenceCloud) {
   scan::ScanScene sc;
   sc.objects.push_back({"plug", plug, Pose::Identity(), false, cad::import_cad(plug).mesh});
   auto& sw = sc.settings.sweep;
-  sw.T_base_sensor_start = look_at({0, 6, 90}, {0, 6, 0});  // sensor y = base -y
+  sw.T_base_sensor_start = look_at({0, 6, 90}, {0, 6, 0});           // sensor y = base -y
   sw.length_mm = 12, sw.speed_mm_s = 20, sw.profile_rate_hz = 1000;  // 20 um profiles
   sc.settings.noise.enabled = sc.settings.motion.enabled = false;
   const auto scan_pts = valid_points(scan::simulate_scan(sc).cloud, -1);
@@ -231,7 +238,8 @@ TEST(Scan, BadScenesAreRefusedNamingTheFile) {
   test::write_text(dir / "good.yaml", obj + ok_sweep);
   EXPECT_GT(scan::simulate_scan(scan::load_scene(dir / "good.yaml")).stats.valid, 0u);
   const std::vector<std::pair<std::string, std::string>> bad = {
-      {"unknown_mesh.yaml", "objects: [{mesh: nope.ply, pose: [0, 0, 0, 1, 0, 0, 0]}]\n" + ok_sweep},
+      {"unknown_mesh.yaml",
+       "objects: [{mesh: nope.ply, pose: [0, 0, 0, 1, 0, 0, 0]}]\n" + ok_sweep},
       {"bad_pose.yaml", "objects: [{mesh: box.ply, pose: [0, 0, 0, 2, 0, 0, 0]}]\n" + ok_sweep},
       {"short_pose.yaml", "objects: [{mesh: box.ply, pose: [0, 0, 0]}]\n" + ok_sweep},
       {"negative_speed.yaml", obj + "sweep: {start: [5, 5, 95, 0, 1, 0, 0], speed_mm_s: -1}\n"},

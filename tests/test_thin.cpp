@@ -17,15 +17,16 @@ namespace {
 struct ThreadScene {
   scan::ScanScene scene;
   scan::ScanResult scan;
-  PointCloud ref;   // what the sweep sees of the thread, in its own frame
-  Pose truth;       // T_scan_thread
+  PointCloud ref;  // what the sweep sees of the thread, in its own frame
+  Pose truth;      // T_scan_thread
   Eigen::Vector3d viewpoint;
 };
 
 const ThreadScene& thread_scene() {
   static const ThreadScene t = [] {
     ThreadScene s;
-    s.scene = scan::load_scene(std::string(LASERFIT_SOURCE_DIR) + "/datasets/scenes/needle_thread.yaml");
+    s.scene =
+        scan::load_scene(std::string(LASERFIT_SOURCE_DIR) + "/datasets/scenes/needle_thread.yaml");
     s.scan = scan::simulate_scan(s.scene);
     const auto& thread = s.scene.objects.at(1);
     s.ref = scan::view_reference(thread.mesh, thread.T_base_object, s.scene.settings, 20000, 3);
@@ -41,7 +42,8 @@ reg::RegistrationSettings settings_with_prior(const ThreadScene& t) {
   reg::RegistrationSettings s;
   s.pre.use_viewpoint = true;
   s.pre.viewpoint = t.viewpoint;
-  Pose prior = t.truth * Pose(Eigen::AngleAxisd(4 * M_PI / 180, Eigen::Vector3d(1, 1, 0).normalized()));
+  Pose prior =
+      t.truth * Pose(Eigen::AngleAxisd(4 * M_PI / 180, Eigen::Vector3d(1, 1, 0).normalized()));
   prior.translation() += Eigen::Vector3d(0.5, -0.4, 0.5);
   s.prior = prior;
   return s;
@@ -61,7 +63,8 @@ TEST(ThinPart, ProfileOfTheThreadReference) {
   // laser: the seen tip is up to 60 um behind the modelled one (measured 40 um).
   EXPECT_NEAR(p.tip.z(), -0.03, 0.03);
   const auto& needle = t.scene.objects.at(0);
-  const PointCloud nref = scan::view_reference(needle.mesh, needle.T_base_object, t.scene.settings, 20000, 3);
+  const PointCloud nref =
+      scan::view_reference(needle.mesh, needle.T_base_object, t.scene.settings, 20000, 3);
   EXPECT_FALSE(reg::thin_profile(nref, {}).thin);
 }
 
@@ -151,7 +154,8 @@ TEST(ThinPart, FailsFarFromTheThread) {
     const auto r = reg::register_cloud(t.scan.cloud, t.ref, s);
     EXPECT_EQ(r.status, reg::Status::Failed) << r.reason;
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("near the thin part's prior"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("near the thin part's prior"), std::string::npos)
+        << e.what();
   }
 }
 

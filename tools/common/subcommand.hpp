@@ -17,8 +17,8 @@ struct Command {
 
 // "<program> <subcommand>: error: <what>" and exit code 1 on any error; CLI11's own codes for
 // --help and usage errors.
-inline int run_subcommand(CLI::App& app, const std::vector<Command>& commands, int argc, char** argv,
-                          const std::string& program) {
+inline int run_subcommand(CLI::App& app, const std::vector<Command>& commands, int argc,
+                          char** argv, const std::string& program) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

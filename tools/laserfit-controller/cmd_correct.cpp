@@ -26,8 +26,9 @@ int run(const Options& o) {
   const Pose target_prior = parse_pose(o.target_prior, "--target-prior");
   const PointCloud scan = io::read_cloud(o.scan);
   std::vector<std::string> log;
-  const Measurement m = measure(scan, io::read_cloud(o.target_ref), io::read_cloud(o.part_ref), target_prior,
-                                c.part_believed_from_flange(flange), cs, s, o.seed, log);
+  const Measurement m =
+      measure(scan, io::read_cloud(o.target_ref), io::read_cloud(o.part_ref), target_prior,
+              c.part_believed_from_flange(flange), cs, s, o.seed, log);
   if (!m.ok) throw Error(o.scan, "no correction: " + m.reason);
   Pose approach = cs.T_target_part_insert;
   approach.translation() = cs.approach_mm;
@@ -35,13 +36,19 @@ int run(const Options& o) {
   const planning::Trajectory tr = plan(c, flange, corr.delta, s);
   if (!tr.ok) throw Error(o.scan, "correction refused: " + tr.reason);
   planning::write_trajectory_csv(o.out, tr);
-  io::Json j = {{"trajectory", o.out}, {"samples", tr.samples.size()}, {"duration_s", tr.duration_s},
-                {"translation_um", tr.translation_mm * 1e3}, {"rotation_deg", tr.rotation_deg},
-                {"measured_lateral_um", corr.lateral_mm * 1e3}, {"log", log}};
-  if (o.json) std::cout << j.dump(2) << "\n";
+  io::Json j = {{"trajectory", o.out},
+                {"samples", tr.samples.size()},
+                {"duration_s", tr.duration_s},
+                {"translation_um", tr.translation_mm * 1e3},
+                {"rotation_deg", tr.rotation_deg},
+                {"measured_lateral_um", corr.lateral_mm * 1e3},
+                {"log", log}};
+  if (o.json)
+    std::cout << j.dump(2) << "\n";
   else
-    std::cout << "correction of " << tr.translation_mm * 1e3 << " um / " << tr.rotation_deg << " deg over "
-              << tr.duration_s << " s -> " << o.out << " (" << tr.samples.size() << " samples)\n";
+    std::cout << "correction of " << tr.translation_mm * 1e3 << " um / " << tr.rotation_deg
+              << " deg over " << tr.duration_s << " s -> " << o.out << " (" << tr.samples.size()
+              << " samples)\n";
   return 0;
 }
 
@@ -49,17 +56,28 @@ int run(const Options& o) {
 
 Command add_correct(CLI::App& root) {
   auto o = std::make_shared<Options>();
-  auto* app = root.add_subcommand("correct", "One correction from files: register the target and the part in a "
-                                             "scan, plan the corrective trajectory, write it as CSV");
-  app->add_option("--cell", o->cell, "cell definition (frames, grasp, insertion geometry)")->required();
+  auto* app =
+      root.add_subcommand("correct",
+                          "One correction from files: register the target and the part in a "
+                          "scan, plan the corrective trajectory, write it as CSV");
+  app->add_option("--cell", o->cell, "cell definition (frames, grasp, insertion geometry)")
+      ->required();
   app->add_option("--scan", o->scan, "scan (.pcd/.ply), sensing arm's base frame, mm")->required();
   app->add_option("--target-ref", o->target_ref, "reference cloud of the target")->required();
   app->add_option("--part-ref", o->part_ref, "reference cloud of the part")->required();
-  app->add_option("--ee-pose", o->ee_pose, "assembling arm's flange pose 'x y z qw qx qy qz' in its base (mm)")->required();
-  app->add_option("--target-prior", o->target_prior, "where the target is believed to be, 'x y z qw qx qy qz' in the scan frame")->required();
-  app->add_option("--thresholds", o->thresholds, "tuned registration thresholds (laserfit tune)")->required();
-  app->add_option("-o,--out", o->out, "trajectory CSV: t, x, y, z (mm), qw, qx, qy, qz in the assembling arm's base")->required();
-  app->add_flag("--orientation", o->orientation, "correct the orientation too (else position only, as in the paper)");
+  app->add_option("--ee-pose", o->ee_pose,
+                  "assembling arm's flange pose 'x y z qw qx qy qz' in its base (mm)")
+      ->required();
+  app->add_option("--target-prior", o->target_prior,
+                  "where the target is believed to be, 'x y z qw qx qy qz' in the scan frame")
+      ->required();
+  app->add_option("--thresholds", o->thresholds, "tuned registration thresholds (laserfit tune)")
+      ->required();
+  app->add_option("-o,--out", o->out,
+                  "trajectory CSV: t, x, y, z (mm), qw, qx, qy, qz in the assembling arm's base")
+      ->required();
+  app->add_flag("--orientation", o->orientation,
+                "correct the orientation too (else position only, as in the paper)");
   app->add_option("--seed", o->seed, "RANSAC seed")->capture_default_str();
   app->add_flag("--json", o->json, "machine-readable result on stdout");
   return {app, [o] { return run(*o); }};

@@ -38,16 +38,18 @@ int run(const Options& o) {
   const int per_robot = int(cs.target_poses.size()) * cs.start_configs;
   const int trials = o.trials > 0 ? o.trials : per_robot;
   if (o.first < 0) throw Error("--first must be >= 0");
-  // Trial i: setting i mod S, start (i / S) mod N, robot instance i / (S N) (a new seeded arm pair).
-  // Everything about trial i follows from (seed, i), so a range [first, first + trials) gives the
-  // same outcomes as the same trials inside a longer run: long campaigns can be split.
+  // Trial i: setting i mod S, start (i / S) mod N, robot instance i / (S N) (a new seeded arm
+  // pair). Everything about trial i follows from (seed, i), so a range [first, first + trials)
+  // gives the same outcomes as the same trials inside a longer run: long campaigns can be split.
   std::map<int, std::unique_ptr<cell::Cell>> cells;
   std::map<std::pair<int, int>, SimSetup> setups;
   for (int i = o.first; i < o.first + trials; ++i) {
     const int robot = i / per_robot, setting = i % int(cs.target_poses.size());
-    if (!cells.count(robot)) cells.emplace(robot, std::make_unique<cell::Cell>(cs, mix_seed(o.seed) + robot));
+    if (!cells.count(robot))
+      cells.emplace(robot, std::make_unique<cell::Cell>(cs, mix_seed(o.seed) + robot));
     if (!setups.count({robot, setting}))
-      setups.emplace(std::make_pair(robot, setting), prepare_setting(*cells[robot], setting, s, o.seed + robot));
+      setups.emplace(std::make_pair(robot, setting),
+                     prepare_setting(*cells[robot], setting, s, o.seed + robot));
   }
   std::vector<Outcome> out(trials * strategies.size());
   size_t done = 0;
@@ -57,7 +59,8 @@ int run(const Options& o) {
     const Strategy st = strategies[k % strategies.size()];
     const int robot = i / per_robot, setting = i % int(cs.target_poses.size());
     const int start = (i / int(cs.target_poses.size())) % cs.start_configs;
-    out[k] = run_insertion(*cells[robot], setups.at({robot, setting}), st, start, mix_seed(o.seed ^ (uint64_t(i) << 8)), s);
+    out[k] = run_insertion(*cells[robot], setups.at({robot, setting}), st, start,
+                           mix_seed(o.seed ^ (uint64_t(i) << 8)), s);
     std::lock_guard<std::mutex> l(m);
     ++done;
     if (!o.quiet) std::cerr << "\rsim: " << done << "/" << out.size() << std::flush;
@@ -74,19 +77,30 @@ int run(const Options& o) {
     lines += outcome_json(x).dump() + "\n";
   }
   if (!o.out.empty()) write_file_atomic(o.out, lines);
-  io::Json summary = {{"cell", o.cell}, {"task", cs.task}, {"seed", o.seed}, {"first", o.first}, {"trials", trials},
-                      {"thresholds", o.thresholds}, {"strategies", io::Json::object()}};
+  io::Json summary = {{"cell", o.cell},
+                      {"task", cs.task},
+                      {"seed", o.seed},
+                      {"first", o.first},
+                      {"trials", trials},
+                      {"thresholds", o.thresholds},
+                      {"strategies", io::Json::object()}};
   std::ostringstream h;
-  h << cs.task << " cell, " << trials << " trials per strategy from trial " << o.first << " (seed " << o.seed << "):\n";
+  h << cs.task << " cell, " << trials << " trials per strategy from trial " << o.first << " (seed "
+    << o.seed << "):\n";
   for (const auto& [name, r] : rate) {
     io::Json per = io::Json::array();
     for (const auto& [k, b] : by_setting[name]) per.push_back(double(b.first) / b.second);
-    summary["strategies"][name] = {{"success_rate", double(r.first) / r.second}, {"successes", r.first},
-                                   {"trials", r.second}, {"per_setting", per}};
-    h << "  " << name << ": " << r.first << "/" << r.second << " = " << 100.0 * r.first / r.second << " %\n";
+    summary["strategies"][name] = {{"success_rate", double(r.first) / r.second},
+                                   {"successes", r.first},
+                                   {"trials", r.second},
+                                   {"per_setting", per}};
+    h << "  " << name << ": " << r.first << "/" << r.second << " = " << 100.0 * r.first / r.second
+      << " %\n";
   }
-  if (o.json) std::cout << summary.dump(2) << "\n";
-  else std::cout << h.str();
+  if (o.json)
+    std::cout << summary.dump(2) << "\n";
+  else
+    std::cout << h.str();
   return 0;
 }
 
@@ -96,17 +110,25 @@ Command add_sim(CLI::App& root) {
   auto o = std::make_shared<Options>();
   auto* app = root.add_subcommand("sim", "Run the controller against the simulated dual-arm cell");
   app->add_option("--cell", o->cell, "cell definition (YAML, cells/*.yaml)")->required();
-  app->add_option("--thresholds", o->thresholds, "tuned registration thresholds (laserfit tune)")->required();
-  app->add_option("--strategy", o->strategies, "comma-separated: ic1, ic2 (proprioception only), laser, "
-                                               "laser_pose (position + orientation)")->capture_default_str();
-  app->add_option("--trials", o->trials, "trials per strategy (default: settings x start configurations; "
-                                         "beyond that, new seeded arm pairs)");
-  app->add_option("--first", o->first, "index of the first trial (run trials first .. first + trials - 1)")
+  app->add_option("--thresholds", o->thresholds, "tuned registration thresholds (laserfit tune)")
+      ->required();
+  app->add_option("--strategy", o->strategies,
+                  "comma-separated: ic1, ic2 (proprioception only), laser, "
+                  "laser_pose (position + orientation)")
       ->capture_default_str();
-  app->add_option("--seed", o->seed, "seed of the arms' errors, noise and scans")->capture_default_str();
+  app->add_option("--trials", o->trials,
+                  "trials per strategy (default: settings x start configurations; "
+                  "beyond that, new seeded arm pairs)");
+  app->add_option("--first", o->first,
+                  "index of the first trial (run trials first .. first + trials - 1)")
+      ->capture_default_str();
+  app->add_option("--seed", o->seed, "seed of the arms' errors, noise and scans")
+      ->capture_default_str();
   app->add_option("--jobs", o->jobs, "trials in parallel")->capture_default_str();
-  app->add_option("--out", o->out, "write every trial's outcome and decision log here (JSON Lines)");
-  app->add_option("--dump", o->dump, "write every scan and the reference clouds here (to look at them)");
+  app->add_option("--out", o->out,
+                  "write every trial's outcome and decision log here (JSON Lines)");
+  app->add_option("--dump", o->dump,
+                  "write every scan and the reference clouds here (to look at them)");
   app->add_flag("--quiet", o->quiet, "no progress on stderr");
   app->add_flag("--json", o->json, "machine-readable summary on stdout");
   return {app, [o] { return run(*o); }};

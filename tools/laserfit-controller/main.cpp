@@ -5,8 +5,11 @@
 #include "commands.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"laserfit-controller — scan, register, correct, insert (simulated cell or files). Lengths mm."};
+  CLI::App app{
+      "laserfit-controller — scan, register, correct, insert (simulated cell or files). Lengths "
+      "mm."};
   app.require_subcommand(1);
-  const std::vector<laserfit::ctl::Command> commands = {laserfit::ctl::add_sim(app), laserfit::ctl::add_correct(app)};
+  const std::vector<laserfit::ctl::Command> commands = {laserfit::ctl::add_sim(app),
+                                                        laserfit::ctl::add_correct(app)};
   return laserfit::tools::run_subcommand(app, commands, argc, argv, "laserfit-controller");
 }

@@ -30,14 +30,17 @@ std::vector<std::string> split(const std::string& s) {
   return v;
 }
 
-int jobs_or_default(int jobs) { return jobs > 0 ? jobs : int(std::max(1u, std::thread::hardware_concurrency())); }
+int jobs_or_default(int jobs) {
+  return jobs > 0 ? jobs : int(std::max(1u, std::thread::hardware_concurrency()));
+}
 
 int run(const Options& o, CLI::App* gen, CLI::App* merge) {
   if (merge->parsed()) {
     const auto s = bench::merge_runs(o.merge_dirs, o.merge_out);
     emit(o.json, {{"out", o.merge_out}, {"trials", s.trials}, {"records", s.records}},
-         "merged " + std::to_string(o.merge_dirs.size()) + " shards: " + std::to_string(s.trials) + " trials, " +
-             std::to_string(s.records) + " records -> " + o.merge_out + "/results.jsonl\n");
+         "merged " + std::to_string(o.merge_dirs.size()) + " shards: " + std::to_string(s.trials) +
+             " trials, " + std::to_string(s.records) + " records -> " + o.merge_out +
+             "/results.jsonl\n");
     return 0;
   }
   if (gen->parsed()) {
@@ -45,18 +48,26 @@ int run(const Options& o, CLI::App* gen, CLI::App* merge) {
     const std::string dir = o.gen_out.empty() ? "datasets/" + b.name : o.gen_out;
     if (o.verify) {
       bench::verify_dataset(dir);
-      emit(o.json, {{"dataset", dir}, {"verified", true}}, dir + ": every file matches its manifest\n");
+      emit(o.json, {{"dataset", dir}, {"verified", true}},
+           dir + ": every file matches its manifest\n");
       return 0;
     }
-    const auto s = bench::generate_dataset(b, dir, jobs_or_default(o.jobs),
-                                           o.repetitions.empty() ? std::vector<int>{} : parse_range(o.repetitions, "--repetitions"),
-                                           split(o.scenes));
-    emit(o.json, {{"dataset", dir}, {"trials", s.trials}, {"bytes", s.bytes}, {"wall_s", s.wall_s}, {"seed", b.seed}},
-         "wrote " + std::to_string(s.trials) + " trials (" + std::to_string(s.bytes >> 20) + " MiB) to " + dir +
-             " (seed " + std::to_string(b.seed) + ")\n");
+    const auto s = bench::generate_dataset(
+        b, dir, jobs_or_default(o.jobs),
+        o.repetitions.empty() ? std::vector<int>{} : parse_range(o.repetitions, "--repetitions"),
+        split(o.scenes));
+    emit(o.json,
+         {{"dataset", dir},
+          {"trials", s.trials},
+          {"bytes", s.bytes},
+          {"wall_s", s.wall_s},
+          {"seed", b.seed}},
+         "wrote " + std::to_string(s.trials) + " trials (" + std::to_string(s.bytes >> 20) +
+             " MiB) to " + dir + " (seed " + std::to_string(b.seed) + ")\n");
     return 0;
   }
-  if (o.file.empty()) throw Error("give a benchmark file (or the generate / merge subcommand); see --help");
+  if (o.file.empty())
+    throw Error("give a benchmark file (or the generate / merge subcommand); see --help");
   const auto b = bench::load_benchmark(o.file);
   if (o.list) {  // check the file and say what a run would do
     const auto trials = bench::enumerate_trials(b);
@@ -65,12 +76,14 @@ int run(const Options& o, CLI::App* gen, CLI::App* merge) {
     int mine = 0;
     for (const auto& t : bench::select_trials(b, {}, split(o.scenes)))
       if (shard.contains(t)) ++mine, ++per_scene[b.scenes[t.scene].name];
-    io::Json j = {{"benchmark", b.name}, {"seed", b.seed}, {"mode", b.mode}, {"trials_total", trials.size()},
-                  {"shard", shard.text()}, {"trials", mine}, {"per_scene", per_scene}, {"methods", b.methods}};
+    io::Json j = {{"benchmark", b.name},           {"seed", b.seed},        {"mode", b.mode},
+                  {"trials_total", trials.size()}, {"shard", shard.text()}, {"trials", mine},
+                  {"per_scene", per_scene},        {"methods", b.methods}};
     std::ostringstream h;
-    h << b.name << " (seed " << b.seed << ", " << b.mode << "): " << trials.size() << " trials in all, " << mine
-      << " in shard " << shard.text() << " (";
-    for (const auto& [n, c] : per_scene) h << n << " " << c << (n == per_scene.rbegin()->first ? "" : ", ");
+    h << b.name << " (seed " << b.seed << ", " << b.mode << "): " << trials.size()
+      << " trials in all, " << mine << " in shard " << shard.text() << " (";
+    for (const auto& [n, c] : per_scene)
+      h << n << " " << c << (n == per_scene.rbegin()->first ? "" : ", ");
     h << "); methods";
     for (const auto& m : b.methods) h << " " << m;
     h << "\n";
@@ -91,12 +104,19 @@ int run(const Options& o, CLI::App* gen, CLI::App* merge) {
   const auto r = bench::run_benchmark(b, s);
   std::ostringstream h;
   h.precision(3);
-  h << b.name << " (seed " << b.seed << ", shard " << s.shard.text() << "): " << r.trials << " trials ("
-    << r.resumed << " resumed), " << r.records << " records in " << r.wall_s << " s, " << r.trials_per_s
-    << " trials/s -> " << s.out_dir << "/results.jsonl, summary.csv\n";
-  emit(o.json, {{"benchmark", b.name}, {"seed", b.seed}, {"shard", s.shard.text()}, {"out", s.out_dir},
-                {"trials", r.trials}, {"resumed", r.resumed}, {"records", r.records}, {"wall_s", r.wall_s},
-                {"trials_per_s", r.trials_per_s}},
+  h << b.name << " (seed " << b.seed << ", shard " << s.shard.text() << "): " << r.trials
+    << " trials (" << r.resumed << " resumed), " << r.records << " records in " << r.wall_s
+    << " s, " << r.trials_per_s << " trials/s -> " << s.out_dir << "/results.jsonl, summary.csv\n";
+  emit(o.json,
+       {{"benchmark", b.name},
+        {"seed", b.seed},
+        {"shard", s.shard.text()},
+        {"out", s.out_dir},
+        {"trials", r.trials},
+        {"resumed", r.resumed},
+        {"records", r.records},
+        {"wall_s", r.wall_s},
+        {"trials_per_s", r.trials_per_s}},
        h.str());
   return 0;
 }
@@ -106,23 +126,36 @@ int run(const Options& o, CLI::App* gen, CLI::App* merge) {
 Command add_bench(CLI::App& root) {
   auto o = std::make_shared<Options>();
   auto* app = root.add_subcommand(
-      "bench", "Run a benchmark (benchmarks/*.yaml): every trial x target x method in parallel, resumable, "
-               "shardable; results.jsonl + summary.csv + run.json in --out.");
+      "bench",
+      "Run a benchmark (benchmarks/*.yaml): every trial x target x method in parallel, resumable, "
+      "shardable; results.jsonl + summary.csv + run.json in --out.");
   app->add_option("benchmark", o->file, "benchmark definition (YAML)");
-  app->add_option("--methods", o->methods, "comma-separated methods (default: the benchmark's): paper, ceres, "
-                                           "point_to_plane, point_to_point, gicp, ndt");
-  app->add_option("--shard", o->shard, "run one deterministic slice i/N (trials k with k mod N = i)")->capture_default_str();
-  app->add_option("--out", o->out, "result directory (default out/bench/<name>); an interrupted run there resumes");
-  app->add_option("--jobs", o->jobs, "trials in parallel (default: all cores; 1 gives per-trial peak memory)");
-  app->add_option("--dataset", o->dataset, "read scans from a generated dataset instead of simulating them");
-  app->add_option("--thresholds", o->thresholds, "tuned thresholds (laserfit tune) on top of each method");
-  app->add_option("--repetitions", o->repetitions, "only repetitions a:b of every cell (as tuning splits)");
-  app->add_option("--scenes", o->scenes, "comma-separated: only these scenes (same trials and seeds as in a full run)");
-  app->add_flag("--no-overlays", o->no_overlays, "do not write overlay clouds of each scene's first trial");
+  app->add_option("--methods", o->methods,
+                  "comma-separated methods (default: the benchmark's): paper, ceres, "
+                  "point_to_plane, point_to_point, gicp, ndt");
+  app->add_option("--shard", o->shard,
+                  "run one deterministic slice i/N (trials k with k mod N = i)")
+      ->capture_default_str();
+  app->add_option("--out", o->out,
+                  "result directory (default out/bench/<name>); an interrupted run there resumes");
+  app->add_option("--jobs", o->jobs,
+                  "trials in parallel (default: all cores; 1 gives per-trial peak memory)");
+  app->add_option("--dataset", o->dataset,
+                  "read scans from a generated dataset instead of simulating them");
+  app->add_option("--thresholds", o->thresholds,
+                  "tuned thresholds (laserfit tune) on top of each method");
+  app->add_option("--repetitions", o->repetitions,
+                  "only repetitions a:b of every cell (as tuning splits)");
+  app->add_option("--scenes", o->scenes,
+                  "comma-separated: only these scenes (same trials and seeds as in a full run)");
+  app->add_flag("--no-overlays", o->no_overlays,
+                "do not write overlay clouds of each scene's first trial");
   app->add_flag("--quiet", o->quiet, "no progress on stderr");
-  app->add_flag("--list", o->list, "check the benchmark file and print its trials per scene; run nothing");
+  app->add_flag("--list", o->list,
+                "check the benchmark file and print its trials per scene; run nothing");
   app->add_flag("--json", o->json, "machine-readable summary on stdout");
-  auto* gen = app->add_subcommand("generate", "Write the benchmark's dataset: scans, ground truth, manifest with CRC-32s");
+  auto* gen = app->add_subcommand(
+      "generate", "Write the benchmark's dataset: scans, ground truth, manifest with CRC-32s");
   gen->add_option("benchmark", o->gen_file, "benchmark definition (YAML)")->required();
   gen->add_option("-o,--out", o->gen_out, "dataset directory (default datasets/<name>)");
   gen->add_option("--jobs", o->jobs, "trials in parallel (the bytes do not depend on it)");
@@ -130,7 +163,8 @@ Command add_bench(CLI::App& root) {
   gen->add_option("--scenes", o->scenes, "comma-separated: only these scenes");
   gen->add_flag("--verify", o->verify, "only check an existing dataset against its manifest");
   gen->add_flag("--json", o->json, "machine-readable summary on stdout");
-  auto* merge = app->add_subcommand("merge", "Combine the result directories of shards 0..N-1 into one run");
+  auto* merge =
+      app->add_subcommand("merge", "Combine the result directories of shards 0..N-1 into one run");
   merge->add_option("dirs", o->merge_dirs, "shard result directories")->required();
   merge->add_option("-o,--out", o->merge_out, "merged result directory")->required();
   merge->add_flag("--json", o->json, "machine-readable summary on stdout");

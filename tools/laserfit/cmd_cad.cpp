@@ -22,7 +22,8 @@ std::map<std::string, double> parse_sets(const std::vector<std::string>& sets) {
     const auto eq = s.find('=');
     char* end = nullptr;
     const double v = eq == std::string::npos ? 0.0 : std::strtod(s.c_str() + eq + 1, &end);
-    if (eq == std::string::npos || eq == 0 || end == s.c_str() + eq + 1 || *end != '\0' || !std::isfinite(v))
+    if (eq == std::string::npos || eq == 0 || end == s.c_str() + eq + 1 || *end != '\0' ||
+        !std::isfinite(v))
       throw Error("--set '" + s + "': expected name=value (mm)");
     out[s.substr(0, eq)] = v;
   }
@@ -37,8 +38,12 @@ int run(const Options& o) {
       io::Json params = io::Json::array();
       h << m.name << " — " << m.description << "\n";
       for (const auto& p : m.params) {
-        params.push_back({{"name", p.name}, {"default", p.value}, {"min", p.min}, {"max", p.max},
-                          {"unit", p.unit}, {"help", p.help}});
+        params.push_back({{"name", p.name},
+                          {"default", p.value},
+                          {"min", p.min},
+                          {"max", p.max},
+                          {"unit", p.unit},
+                          {"help", p.help}});
         h << "  " << p.name << " = " << p.value << " " << p.unit << "  [" << p.min << ", " << p.max
           << "]  " << p.help << "\n";
       }
@@ -66,7 +71,8 @@ int run(const Options& o) {
     for (size_t i = 0; i < g.parts.size(); ++i) {
       const auto& p = g.parts[i];
       const Eigen::Vector3f e = p.mesh.extent();
-      parts.push_back({{"file", files[i]}, {"triangles", p.mesh.faces.size()},
+      parts.push_back({{"file", files[i]},
+                       {"triangles", p.mesh.faces.size()},
                        {"bbox_mm", {e.x(), e.y(), e.z()}}});
       h << "wrote " << files[i] << ": " << p.mesh.faces.size() << " triangles, " << e.x() << " x "
         << e.y() << " x " << e.z() << " mm\n";
@@ -84,8 +90,9 @@ int run(const Options& o) {
 Command add_cad(CLI::App& root) {
   auto o = std::make_shared<Options>();
   auto* app = root.add_subcommand(
-      "cad", "Generate the project's parametric CAD models (needle + thread tip, NIST Task Board 1 "
-             "USB-A plug/receptacle, round and square pegs with holes) as mm meshes + parameters.");
+      "cad",
+      "Generate the project's parametric CAD models (needle + thread tip, NIST Task Board 1 "
+      "USB-A plug/receptacle, round and square pegs with holes) as mm meshes + parameters.");
   app->add_option("model", o->model, "model name, or 'all'");
   app->add_option("-o,--outdir", o->outdir, "output directory")->capture_default_str();
   app->add_option("--set", o->sets, "override a parameter: name=value (mm); repeatable");

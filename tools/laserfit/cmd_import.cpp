@@ -94,20 +94,25 @@ int run(const Options& o) {
 Command add_import(CLI::App& root) {
   auto o = std::make_shared<Options>();
   auto* app = root.add_subcommand(
-      "import", "Read a CAD/mesh file (STL, OBJ, PLY, DAE, glTF/GLB, 3MF, ... via assimp; STEP, "
-                "IGES via OpenCASCADE), check and repair it, write a millimetre mesh.");
+      "import",
+      "Read a CAD/mesh file (STL, OBJ, PLY, DAE, glTF/GLB, 3MF, ... via assimp; STEP, "
+      "IGES via OpenCASCADE), check and repair it, write a millimetre mesh.");
   app->add_option("file", o->input, "input CAD or mesh file")->required();
   app->add_option("-o,--output", o->output, "output mesh (.ply or .stl), millimetres")->required();
   app->add_option("--unit", o->unit,
                   "unit of the file's coordinates: mm|cm|m|in|um|auto (auto: the unit the file "
                   "declares, else a guess from the extent, reported)")
       ->capture_default_str();
-  app->add_option("--deflection", o->deflection, "STEP/IGES chordal deflection (mm)")->capture_default_str();
-  app->add_option("--angular-deflection", o->angular, "STEP/IGES angular deflection (rad)")->capture_default_str();
-  app->add_option("--part", o->part, "import only the part/node with this name (default: merge all)");
+  app->add_option("--deflection", o->deflection, "STEP/IGES chordal deflection (mm)")
+      ->capture_default_str();
+  app->add_option("--angular-deflection", o->angular, "STEP/IGES angular deflection (rad)")
+      ->capture_default_str();
+  app->add_option("--part", o->part,
+                  "import only the part/node with this name (default: merge all)");
   app->add_flag("--no-repair", o->no_repair, "only check and report; write the mesh as read");
   app->add_flag("--fill-holes", o->fill_holes, "triangulate open boundaries");
-  app->add_flag("--no-self-check", o->no_self_check, "skip the self-intersection test (huge meshes)");
+  app->add_flag("--no-self-check", o->no_self_check,
+                "skip the self-intersection test (huge meshes)");
   app->add_flag("--json", o->json, "machine-readable report on stdout");
   return {app, [o] { return run(*o); }};
 }

@@ -15,7 +15,8 @@ namespace laserfit::cli {
 namespace {
 
 struct Options {
-  std::string scan, method = "ceres", coarse = "gated", prior, q0, viewpoint, thresholds, object, thin = "auto";
+  std::string scan, method = "ceres", coarse = "gated", prior, q0, viewpoint, thresholds, object,
+                    thin = "auto";
   std::string weak_rotation, weak_translation;  // x | y | z of the reference frame
   double thin_axis_sigma = registration::ThinSettings{}.axis_prior_deg;
   double max_sigma_um = registration::TrustSettings{}.max_sigma_mm * 1e3;
@@ -35,7 +36,8 @@ Eigen::Vector3d parse_vec3(const std::string& text, const std::string& what) {
     if (c == ',') c = ' ';
   std::istringstream in(t);
   Eigen::Vector3d v;
-  if (!(in >> v.x() >> v.y() >> v.z()) || !v.allFinite()) throw Error(what + ": expected 'x y z' (mm)");
+  if (!(in >> v.x() >> v.y() >> v.z()) || !v.allFinite())
+    throw Error(what + ": expected 'x y z' (mm)");
   return v;
 }
 
@@ -60,7 +62,8 @@ io::Json result_json(const std::string& ref, const registration::RegistrationRes
           {"covariance_order", "rx ry rz (rad, about the matched points' centroid), tx ty tz (mm)"},
           {"sigma_origin_um", r.sigma_origin_mm * 1e3},
           {"sigma_rotation_deg", r.sigma_rotation_deg},
-          {"hessian_eigenvalues", std::vector<double>(r.hessian_eigenvalues.data(), r.hessian_eigenvalues.data() + 6)},
+          {"hessian_eigenvalues",
+           std::vector<double>(r.hessian_eigenvalues.data(), r.hessian_eigenvalues.data() + 6)},
           {"timings_s", r.timings_s},
           {"log", r.log}};
 }
@@ -102,16 +105,17 @@ int run(const Options& o) {
     if (std::abs(q.norm() - 1) > 1e-3) throw Error("--q0: not a unit quaternion");
     s.q0 = q.normalized();
   }
-  const std::string vp = !o.viewpoint.empty() ? o.viewpoint
-                         : scan.metadata.count("viewpoint") ? scan.metadata.at("viewpoint") : "";
+  const std::string vp = !o.viewpoint.empty()               ? o.viewpoint
+                         : scan.metadata.count("viewpoint") ? scan.metadata.at("viewpoint")
+                                                            : "";
   if (!vp.empty()) s.pre.use_viewpoint = true, s.pre.viewpoint = parse_vec3(vp, "viewpoint");
 
   io::Json results = io::Json::array();
   std::ostringstream h;
   for (const auto& ref_path : o.refs) {
     const PointCloud ref = io::read_cloud(ref_path);
-    const registration::RegistrationSettings rs =
-        settings_for(!o.object.empty() ? o.object : std::filesystem::path(ref_path).stem().string());
+    const registration::RegistrationSettings rs = settings_for(
+        !o.object.empty() ? o.object : std::filesystem::path(ref_path).stem().string());
     registration::RegistrationResult r;
     int cluster = -1;
     try {
@@ -123,13 +127,19 @@ int run(const Options& o) {
     results.push_back(result_json(ref_path, r));
     results.back()["cluster"] = cluster;
     const auto tq = pose_to_tq(r.T_scan_ref);
-    h << ref_path << ": " << registration::status_name(r.status) << (r.reason.empty() ? "" : " (" + r.reason + ")")
-      << "\n  T_scan_ref  t = [" << tq[0] << ", " << tq[1] << ", " << tq[2] << "] mm, q = [" << tq[3]
-      << ", " << tq[4] << ", " << tq[5] << ", " << tq[6] << "]\n  fit         rmse "
-      << r.inlier_rmse_mm * 1e3 << " um, overlap " << r.overlap << ", " << r.attempts << " attempt(s)\n";
+    h << ref_path << ": " << registration::status_name(r.status)
+      << (r.reason.empty() ? "" : " (" + r.reason + ")") << "\n  T_scan_ref  t = [" << tq[0] << ", "
+      << tq[1] << ", " << tq[2] << "] mm, q = [" << tq[3] << ", " << tq[4] << ", " << tq[5] << ", "
+      << tq[6] << "]\n  fit         rmse " << r.inlier_rmse_mm * 1e3 << " um, overlap " << r.overlap
+      << ", " << r.attempts << " attempt(s)\n";
   }
-  emit(o.json, io::Json{{"scan", o.scan}, {"method", o.method}, {"seed", o.seed}, {"thresholds", o.thresholds},
-                        {"results", results}}, h.str());
+  emit(o.json,
+       io::Json{{"scan", o.scan},
+                {"method", o.method},
+                {"seed", o.seed},
+                {"thresholds", o.thresholds},
+                {"results", results}},
+       h.str());
   return 0;
 }
 
@@ -138,48 +148,80 @@ int run(const Options& o) {
 Command add_register(CLI::App& root) {
   auto o = std::make_shared<Options>();
   auto* app = root.add_subcommand(
-      "register", "Estimate the pose of each reference cloud in a scan (paper's Algorithm 1: FPFH + "
-                  "RANSAC, orientation gate, ICP loop) with fitness, covariance and ok/ambiguous/failed.");
-  app->add_option("--scan", o->scan, "scan cloud (.pcd/.ply), mm; NaN points are ignored")->required();
-  app->add_option("--ref", o->refs, "reference cloud with normals (laserfit refcloud); repeatable")->required();
-  app->add_option("--method", o->method, "refinement: " + [] {
-    std::string n;
-    for (const auto& m : registration::refiner_names()) n += (n.empty() ? "" : ", ") + m;
-    return n;
-  }())->capture_default_str();
-  app->add_option("--coarse", o->coarse, "coarse stage: gated (rho_rot tested on every RANSAC hypothesis) | pcl (PCL SampleConsensusPrerejective, rho_rot on its result: the paper)")->capture_default_str();
-  app->add_option("--prior", o->prior, "prior pose T_scan_ref 'x y z qw qx qy qz' (e.g. from the arm): the first hypothesis, RANSAC after it");
+      "register",
+      "Estimate the pose of each reference cloud in a scan (paper's Algorithm 1: FPFH + "
+      "RANSAC, orientation gate, ICP loop) with fitness, covariance and ok/ambiguous/failed.");
+  app->add_option("--scan", o->scan, "scan cloud (.pcd/.ply), mm; NaN points are ignored")
+      ->required();
+  app->add_option("--ref", o->refs, "reference cloud with normals (laserfit refcloud); repeatable")
+      ->required();
+  app->add_option(
+         "--method", o->method,
+         "refinement: " +
+             [] {
+               std::string n;
+               for (const auto& m : registration::refiner_names()) n += (n.empty() ? "" : ", ") + m;
+               return n;
+             }())
+      ->capture_default_str();
+  app->add_option("--coarse", o->coarse,
+                  "coarse stage: gated (rho_rot tested on every RANSAC hypothesis) | pcl (PCL "
+                  "SampleConsensusPrerejective, rho_rot on its result: the paper)")
+      ->capture_default_str();
+  app->add_option("--prior", o->prior,
+                  "prior pose T_scan_ref 'x y z qw qx qy qz' (e.g. from the arm): the first "
+                  "hypothesis, RANSAC after it");
   app->add_flag("--refine-only", o->refine_only, "with --prior: refine from it, no RANSAC");
   app->add_option("--q0", o->q0, "prior orientation 'w x y z' for the rho_rot gate (paper's q0)");
-  app->add_option("--rho-rot", o->rho_rot, "rho_rot: reject RANSAC poses farther from q0 (deg)")->capture_default_str();
-  app->add_option("--rho-icp", o->rho_icp, "rho_ICP: stop below this fitness, in voxel^2")->capture_default_str();
+  app->add_option("--rho-rot", o->rho_rot, "rho_rot: reject RANSAC poses farther from q0 (deg)")
+      ->capture_default_str();
+  app->add_option("--rho-icp", o->rho_icp, "rho_ICP: stop below this fitness, in voxel^2")
+      ->capture_default_str();
   app->add_option("--attempts", o->attempts, "RANSAC + ICP rounds at most")->capture_default_str();
-  app->add_option("--voxel", o->voxel, "voxel size (mm); 0 = reference diagonal / 150")->capture_default_str();
-  app->add_option("--viewpoint", o->viewpoint, "sensor position 'x y z' in the scan frame (default: from the scan's header)");
+  app->add_option("--voxel", o->voxel, "voxel size (mm); 0 = reference diagonal / 150")
+      ->capture_default_str();
+  app->add_option("--viewpoint", o->viewpoint,
+                  "sensor position 'x y z' in the scan frame (default: from the scan's header)");
   app->add_option("--seed", o->seed, "RANSAC seed")->capture_default_str();
   app->add_flag("--no-segment", o->no_segment, "register against the whole scan (one part only)");
-  app->add_option("--max-clusters", o->max_clusters, "try the reference against this many largest parts")->capture_default_str();
-  app->add_option("--thresholds", o->thresholds, "tuned thresholds (laserfit tune) instead of the defaults; "
-                                                 "options given here still override them");
-  app->add_option("--object", o->object, "object name for the thresholds' per-object voxel (default: the "
-                                         "reference file's name without extension)");
-  app->add_option("--thin", o->thin, "thin parts (a thread: at most 0.5 mm thick, 5 diameters long) are detected "
-                                     "along the prior's axis, not registered: auto (by the reference's shape) | on | off")
-      ->check(CLI::IsMember({"auto", "on", "off"}))->capture_default_str();
-  app->add_option("--thin-axis-sigma", o->thin_axis_sigma, "thin parts: how good the prior's axis is (deg, 1 sigma; "
-                                                           "0 = fit the axis freely)")->check(CLI::NonNegativeNumber)->capture_default_str();
-  app->add_option("--weak-rotation", o->weak_rotation,
-                  "a rotation the task expects the scan not to pin (axis of the reference frame, e.g. a "
-                  "needle's spin about its shaft): ambiguous about it unless clearly observable")
+  app->add_option("--max-clusters", o->max_clusters,
+                  "try the reference against this many largest parts")
+      ->capture_default_str();
+  app->add_option("--thresholds", o->thresholds,
+                  "tuned thresholds (laserfit tune) instead of the defaults; "
+                  "options given here still override them");
+  app->add_option("--object", o->object,
+                  "object name for the thresholds' per-object voxel (default: the "
+                  "reference file's name without extension)");
+  app->add_option(
+         "--thin", o->thin,
+         "thin parts (a thread: at most 0.5 mm thick, 5 diameters long) are detected "
+         "along the prior's axis, not registered: auto (by the reference's shape) | on | off")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
+  app->add_option("--thin-axis-sigma", o->thin_axis_sigma,
+                  "thin parts: how good the prior's axis is (deg, 1 sigma; "
+                  "0 = fit the axis freely)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app->add_option(
+         "--weak-rotation", o->weak_rotation,
+         "a rotation the task expects the scan not to pin (axis of the reference frame, e.g. a "
+         "needle's spin about its shaft): ambiguous about it unless clearly observable")
       ->check(CLI::IsMember({"x", "y", "z"}));
-  app->add_option("--weak-translation", o->weak_translation, "likewise a translation (e.g. a plug's slide along "
-                                                           "itself)")->check(CLI::IsMember({"x", "y", "z"}));
+  app->add_option("--weak-translation", o->weak_translation,
+                  "likewise a translation (e.g. a plug's slide along "
+                  "itself)")
+      ->check(CLI::IsMember({"x", "y", "z"}));
   app->add_option("--max-sigma-um", o->max_sigma_um,
-                  "trust: an ok whose origin moves by more than this (jackknife sigma, one region of the scan "
+                  "trust: an ok whose origin moves by more than this (jackknife sigma, one region "
+                  "of the scan "
                   "left out) is ambiguous, not pinned; your insertion tolerance (0 = no limit)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app->add_option("--max-sigma-deg", o->max_sigma_deg, "likewise for the rotation (deg)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app->add_flag("--json", o->json, "machine-readable result on stdout");
   o->app = app;
   return {app, [o] { return run(*o); }};

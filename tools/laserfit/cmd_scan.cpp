@@ -27,9 +27,11 @@ int run(const Options& o) {
   if (r.stats.valid == 0) {
     const auto& s = r.stats;
     throw Error(o.scene, "the scan saw nothing: of " + std::to_string(s.rays) + " rays " +
-                             std::to_string(s.hits) + " hit an object, " + std::to_string(s.out_of_range) +
-                             " out of range, " + std::to_string(s.grazing) + " grazing, " +
-                             std::to_string(s.camera_shadow) + " camera shadow (check the sweep start pose)");
+                             std::to_string(s.hits) + " hit an object, " +
+                             std::to_string(s.out_of_range) + " out of range, " +
+                             std::to_string(s.grazing) + " grazing, " +
+                             std::to_string(s.camera_shadow) +
+                             " camera shadow (check the sweep start pose)");
   }
   // Write every file to its temporary first; rename them only when all were written.
   std::vector<std::unique_ptr<AtomicFile>> files;
@@ -47,24 +49,38 @@ int run(const Options& o) {
 
   const auto& s = r.stats;
   const double pts_per_s = double(s.rays) / r.timings.total_s;
-  io::Json j{{"scene", o.scene}, {"output", o.output}, {"seed", sc.seed}, {"noise", o.noise},
-             {"width", r.cloud.width}, {"height", r.cloud.height},
-             {"valid_points", s.valid}, {"rays", s.rays}, {"hits", s.hits},
-             {"lost", {{"out_of_range", s.out_of_range}, {"grazing", s.grazing},
-                       {"camera_shadow", s.camera_shadow}, {"dropouts", s.dropouts}}},
+  io::Json j{{"scene", o.scene},
+             {"output", o.output},
+             {"seed", sc.seed},
+             {"noise", o.noise},
+             {"width", r.cloud.width},
+             {"height", r.cloud.height},
+             {"valid_points", s.valid},
+             {"rays", s.rays},
+             {"hits", s.hits},
+             {"lost",
+              {{"out_of_range", s.out_of_range},
+               {"grazing", s.grazing},
+               {"camera_shadow", s.camera_shadow},
+               {"dropouts", s.dropouts}}},
              {"artefacts", {{"outliers", s.outliers}, {"mixed_pixels", s.mixed_pixels}}},
-             {"timings_s", {{"total", r.timings.total_s}, {"bvh", r.timings.bvh_s},
-                            {"laser_cpu", r.timings.laser_s}, {"camera_cpu", r.timings.camera_s},
-                            {"noise_cpu", r.timings.noise_s}}},
+             {"timings_s",
+              {{"total", r.timings.total_s},
+               {"bvh", r.timings.bvh_s},
+               {"laser_cpu", r.timings.laser_s},
+               {"camera_cpu", r.timings.camera_s},
+               {"noise_cpu", r.timings.noise_s}}},
              {"points_per_s", pts_per_s}};
   std::ostringstream h;
-  h << "scanned " << o.scene << " (seed " << sc.seed << ", noise " << o.noise << "): "
-    << r.cloud.width << " x " << r.cloud.height << " profile points, " << s.valid << " valid\n"
+  h << "scanned " << o.scene << " (seed " << sc.seed << ", noise " << o.noise
+    << "): " << r.cloud.width << " x " << r.cloud.height << " profile points, " << s.valid
+    << " valid\n"
     << "  lost: " << s.out_of_range << " out of range, " << s.grazing << " grazing, "
-    << s.camera_shadow << " camera shadow, " << s.dropouts << " dropouts; "
-    << s.outliers << " outliers, " << s.mixed_pixels << " mixed pixels\n"
+    << s.camera_shadow << " camera shadow, " << s.dropouts << " dropouts; " << s.outliers
+    << " outliers, " << s.mixed_pixels << " mixed pixels\n"
     << "  " << r.timings.total_s << " s (" << pts_per_s / 1e6 << " M profile points/s)\n"
-    << "  wrote " << o.output << (o.gt.empty() ? "" : ", " + o.gt) << (o.raw.empty() ? "" : ", " + o.raw) << "\n";
+    << "  wrote " << o.output << (o.gt.empty() ? "" : ", " + o.gt)
+    << (o.raw.empty() ? "" : ", " + o.raw) << "\n";
   emit(o.json, j, h.str());
   return 0;
 }
@@ -74,14 +90,19 @@ int run(const Options& o) {
 Command add_scan(CLI::App& root) {
   auto o = std::make_shared<Options>();
   auto* app = root.add_subcommand(
-      "scan", "Simulate a laser line scan (LLT3000-25 class) of a scene file: organized cloud in "
-              "the base frame (NaN = no measurement), ground truth, optional raw profiles.");
+      "scan",
+      "Simulate a laser line scan (LLT3000-25 class) of a scene file: organized cloud in "
+      "the base frame (NaN = no measurement), ground truth, optional raw profiles.");
   app->add_option("scene", o->scene, "scene file (YAML, mm); see datasets/scenes/")->required();
-  app->add_option("-o,--output", o->output, "scan cloud (.pcd or .ply): width 2048 x height profiles")->required();
+  app->add_option("-o,--output", o->output,
+                  "scan cloud (.pcd or .ply): width 2048 x height profiles")
+      ->required();
   app->add_option("--gt", o->gt, "ground-truth JSON (object and sensor poses, seed, settings)");
-  app->add_option("--raw", o->raw, "raw profiles in the sensor frame (x, 0, z) as a driver delivers them");
+  app->add_option("--raw", o->raw,
+                  "raw profiles in the sensor frame (x, 0, z) as a driver delivers them");
   app->add_option("--seed", o->seed, "random seed (overrides the scene's)");
-  app->add_option("--noise", o->noise, "on | off (off: ideal sensor and arm)")->capture_default_str();
+  app->add_option("--noise", o->noise, "on | off (off: ideal sensor and arm)")
+      ->capture_default_str();
   app->add_flag("--json", o->json, "machine-readable result on stdout");
   return {app, [o] { return run(*o); }};
 }

@@ -7,8 +7,8 @@
 
 #include "laserfit/core/error.hpp"
 
-#include "laserfit/io/json.hpp"
 #include "../common/subcommand.hpp"
+#include "laserfit/io/json.hpp"
 
 namespace laserfit::cli {
 

@@ -15,7 +15,8 @@ namespace laserfit::bench {
 namespace fs = std::filesystem;
 
 DatasetSummary generate_dataset(const Benchmark& b, const std::string& dir, int jobs,
-                                const std::vector<int>& repetitions, const std::vector<std::string>& scene_names) {
+                                const std::vector<int>& repetitions,
+                                const std::vector<std::string>& scene_names) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<Trial> trials = select_trials(b, repetitions, scene_names);
   fs::create_directories(dir + "/scans");
@@ -27,9 +28,12 @@ DatasetSummary generate_dataset(const Benchmark& b, const std::string& dir, int 
   io::Json ref_files = io::Json::array();
   for (const auto& [i, p] : scenes)
     for (size_t k = 0; k < p.reference.size(); ++k) {
-      const std::string rel = "refs/" + b.scenes[i].name + "_" + b.scenes[i].targets[k].object + ".pcd";
+      const std::string rel =
+          "refs/" + b.scenes[i].name + "_" + b.scenes[i].targets[k].object + ".pcd";
       io::write_cloud(dir + "/" + rel, p.reference[k]);
-      ref_files.push_back({{"path", rel}, {"bytes", fs::file_size(dir + "/" + rel)}, {"crc32", hex32(crc32_file(dir + "/" + rel))}});
+      ref_files.push_back({{"path", rel},
+                           {"bytes", fs::file_size(dir + "/" + rel)},
+                           {"crc32", hex32(crc32_file(dir + "/" + rel))}});
     }
   std::vector<io::Json> files(trials.size());
   parallel_for(trials.size(), jobs, [&](size_t i) {
@@ -40,10 +44,13 @@ DatasetSummary generate_dataset(const Benchmark& b, const std::string& dir, int 
     scan.metadata["benchmark"] = b.name;
     scan.metadata["trial"] = id;
     io::write_cloud(dir + "/scans/" + id + ".pcd", scan);
-    write_file_atomic(dir + "/gt/" + id + ".json", input_json(b, scenes.at(t.scene), t, in).dump(2) + "\n");
+    write_file_atomic(dir + "/gt/" + id + ".json",
+                      input_json(b, scenes.at(t.scene), t, in).dump(2) + "\n");
     io::Json f = io::Json::array();
     for (const std::string& rel : {"scans/" + id + ".pcd", "gt/" + id + ".json"})
-      f.push_back({{"path", rel}, {"bytes", fs::file_size(dir + "/" + rel)}, {"crc32", hex32(crc32_file(dir + "/" + rel))}});
+      f.push_back({{"path", rel},
+                   {"bytes", fs::file_size(dir + "/" + rel)},
+                   {"crc32", hex32(crc32_file(dir + "/" + rel))}});
     files[i] = f;
   });
   DatasetSummary s;
@@ -54,12 +61,18 @@ DatasetSummary generate_dataset(const Benchmark& b, const std::string& dir, int 
       list.push_back(e);
       s.bytes += e.at("bytes").get<size_t>();
     }
-  write_file_atomic(dir + "/manifest.json",
-                    io::Json{{"format", "laserfit.dataset/1"}, {"benchmark", b.name}, {"file", b.file},
-                             {"digest", hex32(uint32_t(b.digest))}, {"seed", b.seed}, {"trials", trials.size()},
-                             {"tolerance", {{"translation_mm", b.t_tol_mm}, {"rotation_deg", b.r_tol_deg}}},
-                             {"files", list}}
-                            .dump(1) + "\n");
+  write_file_atomic(
+      dir + "/manifest.json",
+      io::Json{{"format", "laserfit.dataset/1"},
+               {"benchmark", b.name},
+               {"file", b.file},
+               {"digest", hex32(uint32_t(b.digest))},
+               {"seed", b.seed},
+               {"trials", trials.size()},
+               {"tolerance", {{"translation_mm", b.t_tol_mm}, {"rotation_deg", b.r_tol_deg}}},
+               {"files", list}}
+              .dump(1) +
+          "\n");
   s.trials = trials.size();
   s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return s;
@@ -71,11 +84,13 @@ void verify_dataset(const std::string& dir) {
     for (const auto& f : manifest.at("files")) {
       const std::string path = dir + "/" + f.at("path").get<std::string>();
       if (!fs::exists(path)) throw Error(path, "missing (listed in the manifest)");
-      if (fs::file_size(path) != f.at("bytes").get<size_t>() || hex32(crc32_file(path)) != f.at("crc32"))
+      if (fs::file_size(path) != f.at("bytes").get<size_t>() ||
+          hex32(crc32_file(path)) != f.at("crc32"))
         throw Error(path, "differs from the manifest (size or CRC-32)");
     }
   } catch (const io::Json::exception& e) {
-    throw Error(dir + "/manifest.json", std::string("not a laserfit dataset manifest: ") + e.what());
+    throw Error(dir + "/manifest.json",
+                std::string("not a laserfit dataset manifest: ") + e.what());
   }
 }
 

@@ -18,8 +18,10 @@ namespace laserfit::bench {
 registration::RegistrationSettings method_settings(const std::string& method, const Target& target,
                                                    const registration::Thresholds* thresholds) {
   registration::RegistrationSettings s;
-  if (thresholds) thresholds->apply(s, target.object, target.voxel_mm);
-  else s.pre.voxel_mm = target.voxel_mm;
+  if (thresholds)
+    thresholds->apply(s, target.object, target.voxel_mm);
+  else
+    s.pre.voxel_mm = target.voxel_mm;
   s.trust.weak_rotation = target.weak_rotation, s.trust.weak_translation = target.weak_translation;
   if (method == "paper") {
     s.coarse.method = "pcl";
@@ -34,7 +36,8 @@ namespace {
 
 Eigen::Vector3d viewpoint_of(const PointCloud& scan) {
   const auto it = scan.metadata.find("viewpoint");
-  if (it == scan.metadata.end()) throw Error("the scan has no laserfit.viewpoint (not a laserfit scan?)");
+  if (it == scan.metadata.end())
+    throw Error("the scan has no laserfit.viewpoint (not a laserfit scan?)");
   std::istringstream in(it->second);
   Eigen::Vector3d v;
   if (!(in >> v.x() >> v.y() >> v.z())) throw Error("bad laserfit.viewpoint '" + it->second + "'");
@@ -43,7 +46,8 @@ Eigen::Vector3d viewpoint_of(const PointCloud& scan) {
 
 // The scan near the registered reference (label 0) and the reference at the estimate (label 1),
 // for the report's overlays (the paper's Fig. 5 and 7).
-void write_overlay(const std::string& path, const PointCloud& scan, const PointCloud& ref, const Pose& T) {
+void write_overlay(const std::string& path, const PointCloud& scan, const PointCloud& ref,
+                   const Pose& T) {
   PointCloud o = registration::crop_near(scan, ref, T, 1.0);
   o.labels.assign(o.points.size(), 0);
   for (const auto& p : ref.points) {
@@ -52,7 +56,8 @@ void write_overlay(const std::string& path, const PointCloud& scan, const PointC
   }
   o.normals.clear();
   o.width = int(o.points.size()), o.height = 1;
-  o.metadata = {{"viewpoint", scan.metadata.at("viewpoint")}, {"overlay", "label 0 scan, 1 registered reference"}};
+  o.metadata = {{"viewpoint", scan.metadata.at("viewpoint")},
+                {"overlay", "label 0 scan, 1 registered reference"}};
   io::write_cloud(path, o);
 }
 
@@ -62,7 +67,8 @@ void write_overlay(const std::string& path, const PointCloud& scan, const PointC
 struct WeakNamed {
   bool rotation = false, translation = false;
 };
-WeakNamed names_weak(const registration::RegistrationResult& r, const Target& tg, const Pose& truth) {
+WeakNamed names_weak(const registration::RegistrationResult& r, const Target& tg,
+                     const Pose& truth) {
   const bool continuous = tg.symmetry.kind == metrics::Symmetry::Kind::Continuous;
   const int declared = bool(tg.weak_rotation) + bool(tg.weak_translation) + continuous;
   if (r.status != registration::Status::Ambiguous || r.unobservable > declared) return {};
@@ -70,7 +76,8 @@ WeakNamed names_weak(const registration::RegistrationResult& r, const Target& tg
     return a && registration::weakest_is_rotation_about(r, truth.rotation() * *a);
   };
   const bool named = rot(tg.weak_rotation) || (continuous && rot(tg.symmetry.axis)) ||
-                     (tg.weak_translation && registration::weakest_is_translation_along(r, truth.rotation() * *tg.weak_translation));
+                     (tg.weak_translation && registration::weakest_is_translation_along(
+                                                 r, truth.rotation() * *tg.weak_translation));
   if (!named) return {};
   return {bool(tg.weak_rotation), bool(tg.weak_translation)};
 }
@@ -103,8 +110,8 @@ struct Score {
   bool success = false, false_accept = false, weak_named = false;
   metrics::PoseError e, full;  // modulo the symmetries and named weak DoFs / the symmetry only
 };
-Score score(const Benchmark& b, const PreparedScene& p, size_t k, const Target& tg, const Pose& truth,
-            const registration::RegistrationResult& res) {
+Score score(const Benchmark& b, const PreparedScene& p, size_t k, const Target& tg,
+            const Pose& truth, const registration::RegistrationResult& res) {
   Score sc;
   const WeakNamed weak = names_weak(res, tg, truth);
   sc.weak_named = weak.rotation || weak.translation;
@@ -143,8 +150,8 @@ Score score(const Benchmark& b, const PreparedScene& p, size_t k, const Target& 
 // and lacks walls the scan has, and refined against it from the truth, that mismatch held a
 // socket's slide along its own axis which the scan itself does not hold (repetitions 47, 59, 86,
 // 126, 152 and 169 of registration.yaml at e913f8a).
-AtTruth at_truth(const Benchmark& b, const PreparedScene& p, const Trial& t, const TrialInput& in, size_t k,
-                 const registration::Thresholds* thresholds) {
+AtTruth at_truth(const Benchmark& b, const PreparedScene& p, const Trial& t, const TrialInput& in,
+                 size_t k, const registration::Thresholds* thresholds) {
   const Target& tg = b.scenes[t.scene].targets[k];
   registration::RegistrationSettings s = method_settings("ceres", tg, thresholds);
   s.q0 = Eigen::Quaterniond(in.truth[k].rotation());
@@ -153,9 +160,10 @@ AtTruth at_truth(const Benchmark& b, const PreparedScene& p, const Trial& t, con
   AtTruth a;
   try {
     // Bench scans are in the base frame, so T_scan_object is the T_base_object to view it at.
-    const PointCloud ref = tg.reference == "view" ? scan::view_reference(p.reference_mesh[k], in.truth[k],
-                                                                         p.scene.settings, tg.reference_points, b.seed)
-                                                  : p.reference[k];
+    const PointCloud ref = tg.reference == "view"
+                               ? scan::view_reference(p.reference_mesh[k], in.truth[k],
+                                                      p.scene.settings, tg.reference_points, b.seed)
+                               : p.reference[k];
     const PointCloud near = registration::crop_near(in.scan, ref, in.truth[k], s.prior_radius_mm);
     const auto res = registration::register_cloud(near, ref, s);
     a.determinable = score(b, p, k, tg, in.truth[k], res).success;
@@ -193,40 +201,61 @@ std::vector<io::Json> run_trial(const Benchmark& b, const PreparedScene& p, cons
         registration::ViewSampler view;
         if (tg.resample_view && m != "paper")
           view = [&](const Pose& T_scan_ref) {  // bench scans are in the base frame
-            return scan::view_reference(p.reference_mesh[k], T_scan_ref, p.scene.settings, tg.reference_points,
-                                        b.seed);
+            return scan::view_reference(p.reference_mesh[k], T_scan_ref, p.scene.settings,
+                                        tg.reference_points, b.seed);
           };
         res = registration::register_in_view(in.scan, p.reference[k], view, rs, 2);
       } catch (const Error& e) {  // unusable scan for this target: a failure of the trial
         res.status = registration::Status::Failed;
         res.reason = std::string("error: ") + e.what();
       }
-      const double time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double time_s =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       const Score grade = score(b, p, k, tg, in.truth[k], res);
       const auto &e = grade.e, &full = grade.full;
-      io::Json timing = {{"time_s", time_s}, {"peak_rss_mb", mem.peak_mb()}, {"memory_scope", mem.scope()}};
+      io::Json timing = {
+          {"time_s", time_s}, {"peak_rss_mb", mem.peak_mb()}, {"memory_scope", mem.scope()}};
       for (const auto& [stage, s] : res.timings_s) timing["stages_s"][stage] = s;
-      out.push_back({{"benchmark", b.name}, {"scene", sc.name}, {"object", tg.object}, {"method", m},
-                     {"trial", t.index}, {"cell", t.cell}, {"repetition", t.repetition}, {"seed", t.seed},
-                     {"conditions", cond}, {"expect", tg.expect_failure ? "failure" : "pose"},
-                     {"status", registration::status_name(res.status)}, {"reason", res.reason},
-                     {"weak_axis_named", grade.weak_named},
-                     {"success", grade.success}, {"false_accept", grade.false_accept},
-                     {"t_err_um", e.t_mm * 1e3}, {"r_err_deg", e.r_deg}, {"t_err_full_um", full.t_mm * 1e3},
-                     {"r_err_full_deg", full.r_deg}, {"mssd_um", e.mssd_mm * 1e3},
-                     {"fitness_mm2", res.fitness_mm2}, {"rmse_um", res.inlier_rmse_mm * 1e3},
-                     {"overlap", res.overlap}, {"attempts", res.attempts}, {"voxel_mm", res.voxel_mm},
-                     {"hessian_ratio", res.hessian_eigenvalues[5] > 0
-                                           ? res.hessian_eigenvalues[0] / res.hessian_eigenvalues[5] : 0.0},
-                     {"sigma_origin_um", res.sigma_origin_mm * 1e3}, {"sigma_rotation_deg", res.sigma_rotation_deg},
-                     {"scan_points", in.scan_points}, {"visible_points", visible},
-                     {"determinable", tg.expect_failure || (truth_check.determinable && in_view(visible))},
-                     {"at_truth", {{"status", truth_check.status}, {"reason", truth_check.reason}}},
-                     {"T_scan_ref", io::pose_to_json(res.T_scan_ref).at("matrix")},
-                     {"timing", timing}});
+      out.push_back(
+          {{"benchmark", b.name},
+           {"scene", sc.name},
+           {"object", tg.object},
+           {"method", m},
+           {"trial", t.index},
+           {"cell", t.cell},
+           {"repetition", t.repetition},
+           {"seed", t.seed},
+           {"conditions", cond},
+           {"expect", tg.expect_failure ? "failure" : "pose"},
+           {"status", registration::status_name(res.status)},
+           {"reason", res.reason},
+           {"weak_axis_named", grade.weak_named},
+           {"success", grade.success},
+           {"false_accept", grade.false_accept},
+           {"t_err_um", e.t_mm * 1e3},
+           {"r_err_deg", e.r_deg},
+           {"t_err_full_um", full.t_mm * 1e3},
+           {"r_err_full_deg", full.r_deg},
+           {"mssd_um", e.mssd_mm * 1e3},
+           {"fitness_mm2", res.fitness_mm2},
+           {"rmse_um", res.inlier_rmse_mm * 1e3},
+           {"overlap", res.overlap},
+           {"attempts", res.attempts},
+           {"voxel_mm", res.voxel_mm},
+           {"hessian_ratio", res.hessian_eigenvalues[5] > 0
+                                 ? res.hessian_eigenvalues[0] / res.hessian_eigenvalues[5]
+                                 : 0.0},
+           {"sigma_origin_um", res.sigma_origin_mm * 1e3},
+           {"sigma_rotation_deg", res.sigma_rotation_deg},
+           {"scan_points", in.scan_points},
+           {"visible_points", visible},
+           {"determinable", tg.expect_failure || (truth_check.determinable && in_view(visible))},
+           {"at_truth", {{"status", truth_check.status}, {"reason", truth_check.reason}}},
+           {"T_scan_ref", io::pose_to_json(res.T_scan_ref).at("matrix")},
+           {"timing", timing}});
       if (!o.overlay_dir.empty() && t.cell == 0 && t.repetition == 0)
-        write_overlay(o.overlay_dir + "/" + sc.name + "_" + tg.object + "_" + m + ".pcd", in.scan, p.reference[k],
-                      res.T_scan_ref);
+        write_overlay(o.overlay_dir + "/" + sc.name + "_" + tg.object + "_" + m + ".pcd", in.scan,
+                      p.reference[k], res.T_scan_ref);
     }
   }
   return out;

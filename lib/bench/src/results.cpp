@@ -19,17 +19,20 @@ std::vector<io::Json> read_results(const std::string& path) {
     if (line.empty()) continue;
     try {
       out.push_back(io::Json::parse(line));
-      for (const char* k : {"trial", "method", "scene", "object", "status", "success", "t_err_um", "timing"})
+      for (const char* k :
+           {"trial", "method", "scene", "object", "status", "success", "t_err_um", "timing"})
         if (!out.back().contains(k)) throw Error(std::string("no '") + k + "'");
     } catch (const std::exception& e) {
-      throw Error(path, "line " + std::to_string(n) + ": not a laserfit result record (" + e.what() + ")");
+      throw Error(
+          path, "line " + std::to_string(n) + ": not a laserfit result record (" + e.what() + ")");
     }
   }
   if (out.empty()) throw Error(path, "no records");
   return out;
 }
 
-void write_results(const std::string& dir, const std::vector<io::Json>& records, const io::Json& run) {
+void write_results(const std::string& dir, const std::vector<io::Json>& records,
+                   const io::Json& run) {
   std::string text;
   for (const auto& r : records) text += r.dump() + "\n";
   // The three files are committed together at the end; results.jsonl last, as the marker of a
@@ -56,9 +59,12 @@ RunSummary merge_runs(const std::vector<std::string>& dirs, const std::string& o
     }
     for (const char* k : {"benchmark", "digest", "methods", "thresholds", "repetitions", "dataset"})
       if (run.value(k, io::Json()) != first.value(k, io::Json()))
-        throw Error(d + "/run.json", std::string("'") + k + "' differs from " + dirs[0] + " (not shards of one run)");
-    if (std::stoi(shard.substr(shard.find('/') + 1)) != n) throw Error(d + "/run.json", "shard count differs");
-    if (!shards.insert(shard).second) throw Error(d + "/run.json", "shard " + shard + " given twice");
+        throw Error(d + "/run.json", std::string("'") + k + "' differs from " + dirs[0] +
+                                         " (not shards of one run)");
+    if (std::stoi(shard.substr(shard.find('/') + 1)) != n)
+      throw Error(d + "/run.json", "shard count differs");
+    if (!shards.insert(shard).second)
+      throw Error(d + "/run.json", "shard " + shard + " given twice");
     wall = std::max(wall, run.value("wall_s", 0.0));
     for (auto& r : read_results(d + "/results.jsonl")) {
       const int t = r.at("trial");
@@ -72,7 +78,8 @@ RunSummary merge_runs(const std::vector<std::string>& dirs, const std::string& o
     }
   }
   if (int(shards.size()) != n)
-    throw Error("merge: " + std::to_string(shards.size()) + " of " + std::to_string(n) + " shards given");
+    throw Error("merge: " + std::to_string(shards.size()) + " of " + std::to_string(n) +
+                " shards given");
   std::vector<io::Json> records;
   for (auto& [t, rs] : trials)
     for (auto& r : rs) records.push_back(std::move(r));

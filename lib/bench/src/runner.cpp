@@ -24,7 +24,8 @@ namespace {
 
 constexpr const char* kJournal = "journal.jsonl";
 
-io::Json run_header(const Benchmark& b, const RunSettings& s, const std::vector<std::string>& methods) {
+io::Json run_header(const Benchmark& b, const RunSettings& s,
+                    const std::vector<std::string>& methods) {
   return {{"format", "laserfit.bench/1"},
           {"benchmark", b.name},
           {"file", b.file},
@@ -56,8 +57,10 @@ std::map<int, std::vector<io::Json>> resume(const std::string& path, const io::J
     }
     if (first) {
       if (j != header)
-        throw Error(path, "a journal of a different run (benchmark, methods, shard or thresholds differ); "
-                          "remove it or choose another --out");
+        throw Error(
+            path,
+            "a journal of a different run (benchmark, methods, shard or thresholds differ); "
+            "remove it or choose another --out");
       first = false;
     } else {
       done[j.at("trial").get<int>()] = j.at("records").get<std::vector<io::Json>>();
@@ -69,17 +72,19 @@ std::map<int, std::vector<io::Json>> resume(const std::string& path, const io::J
   return done;
 }
 
-void progress_line(bool tty, const std::string& name, size_t done, size_t total, double rate, size_t left) {
+void progress_line(bool tty, const std::string& name, size_t done, size_t total, double rate,
+                   size_t left) {
   const double eta = rate > 0 ? double(left) / rate : 0;
   char buf[200];
   if (tty) {
     const int w = 30, f = total ? int(w * done / total) : w;
-    std::snprintf(buf, sizeof buf, "\r%s [%s%s] %zu/%zu trials  %.2f trials/s  ETA %.0f s ", name.c_str(),
-                  std::string(f, '#').c_str(), std::string(w - f, '-').c_str(), done, total, rate, eta);
+    std::snprintf(buf, sizeof buf, "\r%s [%s%s] %zu/%zu trials  %.2f trials/s  ETA %.0f s ",
+                  name.c_str(), std::string(f, '#').c_str(), std::string(w - f, '-').c_str(), done,
+                  total, rate, eta);
     std::cerr << buf << (done == total ? "\n" : "") << std::flush;
   } else {
-    std::snprintf(buf, sizeof buf, "%s: %zu/%zu trials, %.2f trials/s, ETA %.0f s\n", name.c_str(), done, total,
-                  rate, eta);
+    std::snprintf(buf, sizeof buf, "%s: %zu/%zu trials, %.2f trials/s, ETA %.0f s\n", name.c_str(),
+                  done, total, rate, eta);
     std::cerr << buf;
   }
 }
@@ -110,7 +115,8 @@ RunSummary run_benchmark(const Benchmark& b, const RunSettings& s) {
   }
   RunSummary sum;
   sum.resumed = mine - pending.size();
-  if (sum.resumed && s.progress) std::cerr << b.name << ": resuming, " << sum.resumed << " trials already done\n";
+  if (sum.resumed && s.progress)
+    std::cerr << b.name << ": resuming, " << sum.resumed << " trials already done\n";
 
   std::map<int, PreparedScene> scenes;  // only the scenes this run needs
   for (const auto& t : pending)
@@ -132,7 +138,8 @@ RunSummary run_benchmark(const Benchmark& b, const RunSettings& s) {
     const std::string path = s.dataset_dir + "/" + rel;
     const auto it = crc.find(rel);
     if (it == crc.end()) throw Error(path, "not in the dataset's manifest");
-    if (hex32(crc32_file(path)) != it->second) throw Error(path, "differs from the dataset's manifest (CRC-32)");
+    if (hex32(crc32_file(path)) != it->second)
+      throw Error(path, "differs from the dataset's manifest (CRC-32)");
     return path;
   };
 
@@ -153,16 +160,18 @@ RunSummary run_benchmark(const Benchmark& b, const RunSettings& s) {
     const Trial& t = pending[i];
     const PreparedScene& p = scenes.at(t.scene);
     const std::string id = std::to_string(t.index);
-    const TrialInput in = s.dataset_dir.empty()
-                              ? simulate_trial(b, p, t)
-                              : read_trial(p, checked("scans/" + id + ".pcd"), checked("gt/" + id + ".json"));
+    const TrialInput in = s.dataset_dir.empty() ? simulate_trial(b, p, t)
+                                                : read_trial(p, checked("scans/" + id + ".pcd"),
+                                                             checked("gt/" + id + ".json"));
     auto recs = run_trial(b, p, t, in, opt);
     std::lock_guard<std::mutex> l(m);
     jout << io::Json{{"trial", t.index}, {"records", recs}}.dump() << "\n" << std::flush;
     done[t.index] = std::move(recs);
     const size_t f = ++finished;
-    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-    if (s.progress) progress_line(tty, b.name, sum.resumed + f, mine, f / el, mine - sum.resumed - f);
+    const double el =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    if (s.progress)
+      progress_line(tty, b.name, sum.resumed + f, mine, f / el, mine - sum.resumed - f);
   });
   jout.close();
 
@@ -174,8 +183,10 @@ RunSummary run_benchmark(const Benchmark& b, const RunSettings& s) {
   sum.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   sum.trials_per_s = pending.empty() ? 0 : double(pending.size()) / sum.wall_s;
   io::Json run = header;
-  run["jobs"] = s.jobs, run["dataset"] = s.dataset_dir, run["trials"] = mine, run["resumed"] = sum.resumed;
-  run["records"] = records.size(), run["wall_s"] = sum.wall_s, run["trials_per_s"] = sum.trials_per_s;
+  run["jobs"] = s.jobs, run["dataset"] = s.dataset_dir, run["trials"] = mine,
+  run["resumed"] = sum.resumed;
+  run["records"] = records.size(), run["wall_s"] = sum.wall_s,
+  run["trials_per_s"] = sum.trials_per_s;
   write_results(s.out_dir, records, run);
   fs::remove(journal);
   return sum;

@@ -12,21 +12,24 @@
 namespace laserfit::bench {
 
 const std::vector<std::string>& axis_names() {
-  static const std::vector<std::string> n = {"noise_scale",        "outlier_rate",         "rotation_deg",
-                                             "translation_mm",     "prior_rotation_deg",   "prior_translation_mm",
-                                             "sweep_fraction"};
+  static const std::vector<std::string> n = {
+      "noise_scale",        "outlier_rate",         "rotation_deg",  "translation_mm",
+      "prior_rotation_deg", "prior_translation_mm", "sweep_fraction"};
   return n;
 }
 
 double& axis(Conditions& c, const std::string& name) {
-  double* f[] = {&c.noise_scale,        &c.outlier_rate,         &c.rotation_deg, &c.translation_mm,
-                 &c.prior_rotation_deg, &c.prior_translation_mm, &c.sweep_fraction};
+  double* f[] = {&c.noise_scale,    &c.outlier_rate,       &c.rotation_deg,
+                 &c.translation_mm, &c.prior_rotation_deg, &c.prior_translation_mm,
+                 &c.sweep_fraction};
   const auto& n = axis_names();
   for (size_t i = 0; i < n.size(); ++i)
     if (n[i] == name) return *f[i];
   throw Error("unknown condition '" + name + "'");
 }
-double axis(const Conditions& c, const std::string& name) { return axis(const_cast<Conditions&>(c), name); }
+double axis(const Conditions& c, const std::string& name) {
+  return axis(const_cast<Conditions&>(c), name);
+}
 
 namespace {
 
@@ -36,7 +39,8 @@ using io::YamlReader;
 void check_axis(const YamlReader& R, const std::string& name, double v) {
   const std::string where = "conditions." + name;
   if (name == "noise_scale" && !(v >= 0 && v <= 100)) R.fail(where, "must be in 0..100");
-  if (name == "outlier_rate" && !(v >= -1 && v <= 0.5)) R.fail(where, "must be in 0..0.5 (or -1: the scene's)");
+  if (name == "outlier_rate" && !(v >= -1 && v <= 0.5))
+    R.fail(where, "must be in 0..0.5 (or -1: the scene's)");
   if ((name == "rotation_deg" || name == "prior_rotation_deg") && !(v >= -1 && v <= 180))
     R.fail(where, "must be in 0..180 deg");
   if ((name == "translation_mm" || name == "prior_translation_mm") && !(v >= -1 && v <= 100))
@@ -46,8 +50,9 @@ void check_axis(const YamlReader& R, const std::string& name, double v) {
 
 Target read_target(const YamlReader& R, const YAML::Node& t, const std::string& where,
                    const std::filesystem::path& dir) {
-  R.only(t, where, {"object", "symmetry", "voxel_mm", "reference", "reference_mesh", "reference_points", "expect",
-                   "weak_rotation", "weak_translation", "pivot", "resample_view"});
+  R.only(t, where,
+         {"object", "symmetry", "voxel_mm", "reference", "reference_mesh", "reference_points",
+          "expect", "weak_rotation", "weak_translation", "pivot", "resample_view"});
   Target tg;
   R.need(t, "object", where);
   tg.object = R.str(t, "object", "", where);
@@ -57,23 +62,30 @@ Target read_target(const YamlReader& R, const YAML::Node& t, const std::string& 
     R.fail(where + ".symmetry", e.what());
   }
   tg.voxel_mm = R.num(t, "voxel_mm", 0, where);
-  if (tg.voxel_mm < 0 || tg.voxel_mm > 10) R.fail(where + ".voxel_mm", "must be in 0..10 mm (0 = auto)");
+  if (tg.voxel_mm < 0 || tg.voxel_mm > 10)
+    R.fail(where + ".voxel_mm", "must be in 0..10 mm (0 = auto)");
   tg.reference = R.str(t, "reference", "view", where);
-  if (tg.reference != "view" && tg.reference != "full") R.fail(where + ".reference", "must be view or full");
-  if (t["reference_mesh"]) tg.reference_mesh = (dir / R.str(t, "reference_mesh", "", where)).lexically_normal().string();
+  if (tg.reference != "view" && tg.reference != "full")
+    R.fail(where + ".reference", "must be view or full");
+  if (t["reference_mesh"])
+    tg.reference_mesh = (dir / R.str(t, "reference_mesh", "", where)).lexically_normal().string();
   tg.reference_points = size_t(R.integer(t, "reference_points", 60000, where, 100, 10000000));
   tg.resample_view = R.flag(t, "resample_view", false, where);
-  if (tg.resample_view && tg.reference != "view") R.fail(where + ".resample_view", "needs reference: view");
+  if (tg.resample_view && tg.reference != "view")
+    R.fail(where + ".resample_view", "needs reference: view");
   const std::string expect = R.str(t, "expect", "pose", where);
   if (expect != "pose" && expect != "failure") R.fail(where + ".expect", "must be pose or failure");
   tg.expect_failure = expect == "failure";
   tg.pivot = R.str(t, "pivot", "origin", where);
-  if (tg.pivot != "origin" && tg.pivot != "view") R.fail(where + ".pivot", "must be origin or view");
+  if (tg.pivot != "origin" && tg.pivot != "view")
+    R.fail(where + ".pivot", "must be origin or view");
   for (const char* key : {"weak_rotation", "weak_translation"}) {
     if (!t[key]) continue;
     const std::string a = R.str(t, key, "", where);
-    if (a != "x" && a != "y" && a != "z") R.fail(where + "." + key, "must be x, y or z (object frame)");
-    (std::string(key) == "weak_rotation" ? tg.weak_rotation : tg.weak_translation) = registration::named_axis(a);
+    if (a != "x" && a != "y" && a != "z")
+      R.fail(where + "." + key, "must be x, y or z (object frame)");
+    (std::string(key) == "weak_rotation" ? tg.weak_rotation : tg.weak_translation) =
+        registration::named_axis(a);
   }
   if (tg.object.empty()) R.fail(where + ".object", "must name a scene object");
   return tg;
@@ -84,7 +96,8 @@ Target read_target(const YamlReader& R, const YAML::Node& t, const std::string& 
 Benchmark load_benchmark(const std::string& path) {
   const YamlReader R{path};
   const YAML::Node root = R.load();
-  R.only(root, "benchmark", {"name", "seed", "trials", "mode", "conditions", "tolerance", "methods", "scenes"});
+  R.only(root, "benchmark",
+         {"name", "seed", "trials", "mode", "conditions", "tolerance", "methods", "scenes"});
   const auto dir = std::filesystem::path(path).parent_path();
   Benchmark b;
   b.file = path;
@@ -101,12 +114,14 @@ Benchmark load_benchmark(const std::string& path) {
     R.only(c, "conditions", names);
     for (const auto& kv : c) {
       const auto k = kv.first.as<std::string>();
-      std::vector<double> v = kv.second.IsSequence() ? R.list(kv.second, "conditions." + k)
-                                                     : std::vector<double>{R.num(c, k, 0, "conditions")};
+      std::vector<double> v = kv.second.IsSequence()
+                                  ? R.list(kv.second, "conditions." + k)
+                                  : std::vector<double>{R.num(c, k, 0, "conditions")};
       if (v.empty()) R.fail("conditions." + k, "needs at least one value");
       if (b.mode == "random" && v.size() != 2 && v.size() != 1)
         R.fail("conditions." + k, "random mode: a value or a [min, max] range");
-      if (b.mode == "random" && v.size() == 2 && v[0] > v[1]) R.fail("conditions." + k, "min above max");
+      if (b.mode == "random" && v.size() == 2 && v[0] > v[1])
+        R.fail("conditions." + k, "min above max");
       for (double x : v) check_axis(R, k, x);
       b.axes[k] = v;
     }
@@ -116,7 +131,8 @@ Benchmark load_benchmark(const std::string& path) {
     if (!(b.t_tol_mm > 0) || !(b.r_tol_deg > 0)) R.fail("tolerance", "must be positive");
   }
   if (const auto m = root["methods"]) {
-    if (!m.IsSequence() || m.size() == 0) R.fail("methods", "expected a non-empty list of method names");
+    if (!m.IsSequence() || m.size() == 0)
+      R.fail("methods", "expected a non-empty list of method names");
     b.methods.clear();
     for (const auto& x : m) b.methods.push_back(x.as<std::string>());
   }
@@ -131,9 +147,11 @@ Benchmark load_benchmark(const std::string& path) {
     if (sc.name.empty()) R.fail(where + ".name", "missing");
     sc.scene_path = (dir / R.str(s, "scene", "", where)).lexically_normal().string();
     const auto targets = R.need(s, "targets", where);
-    if (!targets.IsSequence() || targets.size() == 0) R.fail(where + ".targets", "expected a non-empty list");
+    if (!targets.IsSequence() || targets.size() == 0)
+      R.fail(where + ".targets", "expected a non-empty list");
     for (size_t k = 0; k < targets.size(); ++k)
-      sc.targets.push_back(read_target(R, targets[k], where + ".targets[" + std::to_string(k) + "]", dir));
+      sc.targets.push_back(
+          read_target(R, targets[k], where + ".targets[" + std::to_string(k) + "]", dir));
     for (const auto& other : b.scenes)
       if (other.name == sc.name) R.fail(where + ".name", "duplicate scene name '" + sc.name + "'");
     b.scenes.push_back(sc);
@@ -154,7 +172,8 @@ std::vector<int> scene_indices(const Benchmark& b, const std::vector<std::string
   for (const auto& n : names) {
     size_t i = 0;
     while (i < b.scenes.size() && b.scenes[i].name != n) ++i;
-    if (i == b.scenes.size()) throw Error(b.file, "no scene named '" + n + "' (scenes: " + known + ")");
+    if (i == b.scenes.size())
+      throw Error(b.file, "no scene named '" + n + "' (scenes: " + known + ")");
     idx.push_back(int(i));
   }
   return idx;

@@ -39,7 +39,8 @@ std::vector<Trial> enumerate_trials(const Benchmark& b) {
         if (b.mode == "random") {
           std::mt19937_64 g = block_rng(b.seed, 2000 + s, uint64_t(r));
           for (const auto& [name, range] : b.axes)
-            axis(t.conditions, name) = range.size() == 1 ? range[0] : range[0] + uniform01(g) * (range[1] - range[0]);
+            axis(t.conditions, name) =
+                range.size() == 1 ? range[0] : range[0] + uniform01(g) * (range[1] - range[0]);
         }
         trials.push_back(t);
       }
@@ -61,7 +62,8 @@ Shard parse_shard(const std::string& text) {
   Shard s;
   char slash = 0, extra = 0;
   std::istringstream in(text);
-  if (!(in >> s.i >> slash >> s.n) || slash != '/' || (in >> extra) || s.n < 1 || s.i < 0 || s.i >= s.n)
+  if (!(in >> s.i >> slash >> s.n) || slash != '/' || (in >> extra) || s.n < 1 || s.i < 0 ||
+      s.i >= s.n)
     throw Error("--shard '" + text + "': expected i/N with 0 <= i < N");
   return s;
 }
@@ -98,7 +100,8 @@ PreparedScene prepare_scene(const Benchmark& b, int scene) {
     int idx = -1;
     for (size_t i = 0; i < p.scene.objects.size(); ++i)
       if (p.scene.objects[i].name == t.object) idx = int(i);
-    if (idx < 0) throw Error(b.file, "scene '" + sc.name + "' has no object named '" + t.object + "'");
+    if (idx < 0)
+      throw Error(b.file, "scene '" + sc.name + "' has no object named '" + t.object + "'");
     const auto& o = p.scene.objects[idx];
     // A wrong-object trial registers another part's CAD where this object is.
     const TriMesh mesh = t.reference_mesh.empty() ? o.mesh : cad::import_cad(t.reference_mesh).mesh;
@@ -108,17 +111,20 @@ PreparedScene prepare_scene(const Benchmark& b, int scene) {
       ss.seed = b.seed;
       p.reference.push_back(sampling::sample_uniform(mesh, ss));
     } else {  // what the nominal sweep sees of the nominally placed object
-      p.reference.push_back(scan::view_reference(mesh, o.T_base_object, p.scene.settings, t.reference_points, b.seed));
+      p.reference.push_back(scan::view_reference(mesh, o.T_base_object, p.scene.settings,
+                                                 t.reference_points, b.seed));
     }
     p.reference_mesh.push_back(mesh);
     p.object.push_back(idx);
     p.model.push_back(o.mesh.vertices);
     Eigen::Vector3d pivot = Eigen::Vector3d::Zero();
     if (t.pivot == "view") {  // the seen part of the object's own mesh, whatever the reference
-      const PointCloud seen = t.reference == "view" && t.reference_mesh.empty()
-                                  ? p.reference.back()
-                                  : scan::view_reference(o.mesh, o.T_base_object, p.scene.settings, 20000, b.seed);
-      if (seen.points.empty()) throw Error(b.file, "pivot: view: the nominal sweep sees nothing of '" + t.object + "'");
+      const PointCloud seen =
+          t.reference == "view" && t.reference_mesh.empty()
+              ? p.reference.back()
+              : scan::view_reference(o.mesh, o.T_base_object, p.scene.settings, 20000, b.seed);
+      if (seen.points.empty())
+        throw Error(b.file, "pivot: view: the nominal sweep sees nothing of '" + t.object + "'");
       for (const auto& q : seen.points) pivot += q.cast<double>();
       pivot /= double(seen.points.size());
     }
@@ -159,14 +165,16 @@ TrialInput simulate_trial(const Benchmark& b, const PreparedScene& p, const Tria
   in.scan_points = r.stats.valid;
   for (size_t k = 0; k < p.object.size(); ++k) {
     in.truth.push_back(r.T_scan_object[p.object[k]]);
-    in.prior.push_back(c.prior_rotation_deg < 0 && c.prior_translation_mm < 0
-                           ? nominal[k]
-                           : perturbed(in.truth.back(), c.prior_rotation_deg, c.prior_translation_mm, g));
+    in.prior.push_back(
+        c.prior_rotation_deg < 0 && c.prior_translation_mm < 0
+            ? nominal[k]
+            : perturbed(in.truth.back(), c.prior_rotation_deg, c.prior_translation_mm, g));
   }
   return in;
 }
 
-io::Json input_json(const Benchmark& b, const PreparedScene& p, const Trial& t, const TrialInput& in) {
+io::Json input_json(const Benchmark& b, const PreparedScene& p, const Trial& t,
+                    const TrialInput& in) {
   io::Json cond = io::Json::object(), targets = io::Json::array();
   for (const auto& name : axis_names()) cond[name] = axis(t.conditions, name);
   const auto& sc = b.scenes[t.scene];
@@ -181,12 +189,15 @@ io::Json input_json(const Benchmark& b, const PreparedScene& p, const Trial& t, 
                        {"expect", sc.targets[k].expect_failure ? "failure" : "pose"},
                        {"T_scan_object", io::pose_to_json(in.truth[k])},
                        {"prior", io::pose_to_json(in.prior[k])}});
-  return {{"benchmark", b.name}, {"trial", t.index}, {"scene", sc.name}, {"cell", t.cell},
-          {"repetition", t.repetition}, {"seed", t.seed}, {"scan_seed", in.scan_seed},
-          {"scan_points", in.scan_points}, {"conditions", cond}, {"targets", targets}};
+  return {{"benchmark", b.name},        {"trial", t.index},
+          {"scene", sc.name},           {"cell", t.cell},
+          {"repetition", t.repetition}, {"seed", t.seed},
+          {"scan_seed", in.scan_seed},  {"scan_points", in.scan_points},
+          {"conditions", cond},         {"targets", targets}};
 }
 
-TrialInput read_trial(const PreparedScene& p, const std::string& scan_pcd, const std::string& gt_json) {
+TrialInput read_trial(const PreparedScene& p, const std::string& scan_pcd,
+                      const std::string& gt_json) {
   TrialInput in;
   in.scan = io::read_cloud(scan_pcd);
   const io::Json j = io::read_json(gt_json);

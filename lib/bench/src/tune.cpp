@@ -16,7 +16,8 @@
 namespace laserfit::bench {
 
 bool Score::better_than(const Score& o) const {
-  const double fa = records ? double(false_accepts) / records : 0, ofa = o.records ? double(o.false_accepts) / o.records : 0;
+  const double fa = records ? double(false_accepts) / records : 0,
+               ofa = o.records ? double(o.false_accepts) / o.records : 0;
   if (fa != ofa) return fa < ofa;
   if (success_rate() != o.success_rate()) return success_rate() > o.success_rate();
   if (median_t_um < 0.95 * o.median_t_um) return true;
@@ -26,10 +27,14 @@ bool Score::better_than(const Score& o) const {
 
 const std::vector<std::pair<std::string, std::vector<double>>>& tunable_params() {
   static const std::vector<std::pair<std::string, std::vector<double>>> p = {
-      {"rho_rot", {15, 30, 45}},         {"rho_icp", {0.02, 0.05, 0.1}},
-      {"max_rmse", {0.3, 0.5, 0.8}},     {"min_overlap", {0.2, 0.3, 0.5}},
-      {"voxel_scale", {0.75, 1.0, 1.5}}, {"feature_radius", {4, 6, 9}},
-      {"ransac_iterations", {2000, 10000, 50000}}, {"max_correspondence", {1.5, 2.0, 3.0}}};
+      {"rho_rot", {15, 30, 45}},
+      {"rho_icp", {0.02, 0.05, 0.1}},
+      {"max_rmse", {0.3, 0.5, 0.8}},
+      {"min_overlap", {0.2, 0.3, 0.5}},
+      {"voxel_scale", {0.75, 1.0, 1.5}},
+      {"feature_radius", {4, 6, 9}},
+      {"ransac_iterations", {2000, 10000, 50000}},
+      {"max_correspondence", {1.5, 2.0, 3.0}}};
   return p;
 }
 
@@ -64,13 +69,16 @@ struct Split {
   std::vector<TrialInput> inputs;
 };
 
-Split make_split(const Benchmark& b, const std::map<int, PreparedScene>& scenes, const std::vector<int>& reps, int jobs) {
+Split make_split(const Benchmark& b, const std::map<int, PreparedScene>& scenes,
+                 const std::vector<int>& reps, int jobs) {
   Split s;
   for (const auto& t : enumerate_trials(b))
     for (int r : reps)
       if (t.repetition == r) s.trials.push_back(t);
   s.inputs.resize(s.trials.size());
-  parallel_for(s.trials.size(), jobs, [&](size_t i) { s.inputs[i] = simulate_trial(b, scenes.at(s.trials[i].scene), s.trials[i]); });
+  parallel_for(s.trials.size(), jobs, [&](size_t i) {
+    s.inputs[i] = simulate_trial(b, scenes.at(s.trials[i].scene), s.trials[i]);
+  });
   return s;
 }
 
@@ -100,9 +108,12 @@ Score evaluate(const Benchmark& b, const std::map<int, PreparedScene>& scenes, c
 }
 
 io::Json score_json(const Score& s) {
-  return {{"records", s.records}, {"success_rate", s.success_rate()}, {"false_accepts", s.false_accepts},
+  return {{"records", s.records},
+          {"success_rate", s.success_rate()},
+          {"false_accepts", s.false_accepts},
           {"attempts", s.attempts},
-          {"median_t_err_um", s.median_t_um}, {"median_time_s", s.median_time_s}};
+          {"median_t_err_um", s.median_t_um},
+          {"median_time_s", s.median_time_s}};
 }
 
 std::string range_text(const std::vector<int>& r) {
@@ -112,12 +123,20 @@ std::string range_text(const std::vector<int>& r) {
 }  // namespace
 
 TuneResult tune(const Benchmark& b, const TuneSettings& s) {
-  if (s.train.empty() || s.test.empty()) throw Error("tuning needs a training and a held-out split");
+  if (s.train.empty() || s.test.empty())
+    throw Error("tuning needs a training and a held-out split");
   for (int r : s.train)
     for (int q : s.test)
-      if (r == q) throw Error("the training and held-out splits share repetition " + std::to_string(r));
-  for (int r : s.train) if (r >= b.trials) throw Error(b.file, "no repetition " + std::to_string(r) + " (trials: " + std::to_string(b.trials) + ")");
-  for (int r : s.test) if (r >= b.trials) throw Error(b.file, "no repetition " + std::to_string(r) + " (trials: " + std::to_string(b.trials) + ")");
+      if (r == q)
+        throw Error("the training and held-out splits share repetition " + std::to_string(r));
+  for (int r : s.train)
+    if (r >= b.trials)
+      throw Error(b.file, "no repetition " + std::to_string(r) +
+                              " (trials: " + std::to_string(b.trials) + ")");
+  for (int r : s.test)
+    if (r >= b.trials)
+      throw Error(b.file, "no repetition " + std::to_string(r) +
+                              " (trials: " + std::to_string(b.trials) + ")");
   std::vector<std::string> names = s.params;
   if (names.empty())
     for (const auto& p : tunable_params()) names.push_back(p.first);
@@ -134,16 +153,17 @@ TuneResult tune(const Benchmark& b, const TuneSettings& s) {
       if (t.voxel_mm > 0) best.voxel_mm[t.object] = t.voxel_mm;
   auto log = [&](const std::string& what, const Score& sc) {
     if (s.progress)
-      std::cerr << "tune: " << what << ": success " << sc.success_rate() * 100 << " %, false accepts "
-                << sc.false_accepts << ", median " << sc.median_t_um << " um, " << sc.attempts << " attempts, "
-                << sc.median_time_s << " s\n";
+      std::cerr << "tune: " << what << ": success " << sc.success_rate() * 100
+                << " %, false accepts " << sc.false_accepts << ", median " << sc.median_t_um
+                << " um, " << sc.attempts << " attempts, " << sc.median_time_s << " s\n";
   };
   Score best_score = evaluate(b, scenes, train, best, s.method, jobs);
   out.baseline_train = best_score;
   out.history.push_back({{"param", "defaults"}, {"train", score_json(best_score)}});
   log("defaults", best_score);
   for (const auto& name : names) {
-    const auto it = std::find_if(tunable_params().begin(), tunable_params().end(), [&](const auto& p) { return p.first == name; });
+    const auto it = std::find_if(tunable_params().begin(), tunable_params().end(),
+                                 [&](const auto& p) { return p.first == name; });
     if (it == tunable_params().end()) throw Error("unknown tuning parameter '" + name + "'");
     const double current = get(best, name);
     for (double v : it->second) {
@@ -164,13 +184,17 @@ TuneResult tune(const Benchmark& b, const TuneSettings& s) {
   registration::Thresholds defaults;
   defaults.method = s.method, defaults.voxel_mm = best.voxel_mm;
   const bool unchanged = thresholds_yaml(defaults) == thresholds_yaml(best);
-  out.baseline_held_out = unchanged ? out.held_out : evaluate(b, scenes, test, defaults, s.method, jobs);
+  out.baseline_held_out =
+      unchanged ? out.held_out : evaluate(b, scenes, test, defaults, s.method, jobs);
   log("held out, tuned", out.held_out);
   log("held out, defaults", out.baseline_held_out);
-  best.benchmark = b.name, best.benchmark_file = b.file, best.benchmark_digest = hex32(uint32_t(b.digest));
+  best.benchmark = b.name, best.benchmark_file = b.file,
+  best.benchmark_digest = hex32(uint32_t(b.digest));
   best.seed = b.seed, best.train = range_text(s.train), best.test = range_text(s.test);
-  best.held_out_registrations = out.held_out.records, best.held_out_false_accepts = out.held_out.false_accepts;
-  best.held_out_success_rate = out.held_out.success_rate(), best.held_out_median_t_um = out.held_out.median_t_um;
+  best.held_out_registrations = out.held_out.records,
+  best.held_out_false_accepts = out.held_out.false_accepts;
+  best.held_out_success_rate = out.held_out.success_rate(),
+  best.held_out_median_t_um = out.held_out.median_t_um;
   out.thresholds = best;
   return out;
 }

@@ -65,8 +65,8 @@ RawMesh read_with_assimp(const std::string& path, const std::string& part) {
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
   const aiScene* scene = nullptr;
   try {
-    scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_SortByPType |
-                                        aiProcess_ValidateDataStructure);
+    scene = importer.ReadFile(
+        path, aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_ValidateDataStructure);
   } catch (const std::exception& e) {
     throw Error(path, std::string("cannot parse: ") + e.what());
   }
@@ -102,7 +102,8 @@ RawMesh read_with_assimp(const std::string& path, const std::string& part) {
   if (!matched) {
     std::string list;
     for (const auto& n : raw.parts) list += (list.empty() ? "" : ", ") + n;
-    throw Error(path, "no part named '" + part + "' (parts: " + (list.empty() ? "none" : list) + ")");
+    throw Error(path,
+                "no part named '" + part + "' (parts: " + (list.empty() ? "none" : list) + ")");
   }
 
   const std::string ext = io::lower_extension(path);

@@ -100,20 +100,18 @@ GeneratedModel generate_model(const std::string& model, const std::map<std::stri
   for (const auto& [name, value] : ov) {
     auto it = std::find_if(entry->info.params.begin(), entry->info.params.end(),
                            [&](const ModelParam& p) { return p.name == name; });
-    if (it == entry->info.params.end())
-      throw Error(model + ": unknown parameter '" + name + "'");
+    if (it == entry->info.params.end()) throw Error(model + ": unknown parameter '" + name + "'");
     if (!(value >= it->min && value <= it->max)) {
       std::ostringstream m;
-      m << model << ": " << name << " = " << value << " " << it->unit << " is outside ["
-        << it->min << ", " << it->max << "]";
+      m << model << ": " << name << " = " << value << " " << it->unit << " is outside [" << it->min
+        << ", " << it->max << "]";
       throw Error(m.str());
     }
     out.params[name] = value;
   }
   try {
     for (auto& ps : entry->build(out.params)) {
-      GeneratedPart part{ps.name, ps.frame,
-                         tessellate(ps.shape, {entry->deflection_mm, 0.1})};
+      GeneratedPart part{ps.name, ps.frame, tessellate(ps.shape, {entry->deflection_mm, 0.1})};
       if (part.mesh.empty()) throw Error(model + ": part '" + ps.name + "' came out empty");
       out.parts.push_back(std::move(part));
     }

@@ -19,7 +19,8 @@ std::string number(double v) {
 }
 
 // The parameters that made a model, next to its meshes: regenerate with `make cad`.
-std::string params_yaml(const cad::GeneratedModel& g, const std::vector<cad::RepairReport>& checks) {
+std::string params_yaml(const cad::GeneratedModel& g,
+                        const std::vector<cad::RepairReport>& checks) {
   YAML::Emitter y;
   y << YAML::BeginMap << YAML::Key << "model" << YAML::Value << g.model;
   y << YAML::Key << "generator" << YAML::Value << "laserfit cad (OpenCASCADE B-rep, BRepMesh)";
@@ -34,7 +35,8 @@ std::string params_yaml(const cad::GeneratedModel& g, const std::vector<cad::Rep
     y << YAML::BeginMap << YAML::Key << "file" << YAML::Value << p.name + ".ply";
     y << YAML::Key << "frame" << YAML::Value << p.frame;
     y << YAML::Key << "triangles" << YAML::Value << p.mesh.faces.size();
-    y << YAML::Key << "bbox_mm" << YAML::Value << YAML::Flow << std::vector<float>{e.x(), e.y(), e.z()};
+    y << YAML::Key << "bbox_mm" << YAML::Value << YAML::Flow
+      << std::vector<float>{e.x(), e.y(), e.z()};
     y << YAML::Key << "watertight" << YAML::Value << checks[i].watertight;
     y << YAML::EndMap;
   }

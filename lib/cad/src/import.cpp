@@ -22,8 +22,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 // Decide how to read the raw coordinates: the user's word first, then what the file declares,
 // then a guess from the extent (reported, because a guess can be wrong).
-void resolve_unit(const ImportSettings& s, const RawMesh& raw,
-                  ImportResult& r) {
+void resolve_unit(const ImportSettings& s, const RawMesh& raw, ImportResult& r) {
   const double largest = raw.mesh.extent().maxCoeff();
   if (s.unit != Unit::Auto) {
     r.unit = s.unit;
@@ -37,11 +36,11 @@ void resolve_unit(const ImportSettings& s, const RawMesh& raw,
   if (raw.declared_to_mm > 0) {
     r.unit_source = "file";
     r.unit_note = raw.declared_unit;
-    r.unit = std::abs(raw.declared_to_mm - 1.0) < 1e-12      ? Unit::Millimetre
-             : std::abs(raw.declared_to_mm - 1000.0) < 1e-9  ? Unit::Metre
-             : std::abs(raw.declared_to_mm - 25.4) < 1e-9    ? Unit::Inch
-             : std::abs(raw.declared_to_mm - 10.0) < 1e-12   ? Unit::Centimetre
-                                                             : Unit::Millimetre;
+    r.unit = std::abs(raw.declared_to_mm - 1.0) < 1e-12     ? Unit::Millimetre
+             : std::abs(raw.declared_to_mm - 1000.0) < 1e-9 ? Unit::Metre
+             : std::abs(raw.declared_to_mm - 25.4) < 1e-9   ? Unit::Inch
+             : std::abs(raw.declared_to_mm - 10.0) < 1e-12  ? Unit::Centimetre
+                                                            : Unit::Millimetre;
     return;
   }
   r.unit = guess_unit_from_extent(largest);
@@ -83,8 +82,8 @@ ImportResult import_cad(const std::string& path, const ImportSettings& s) {
   // Raw coordinates -> mm. OpenCASCADE hands STEP/IGES geometry over already converted to mm
   // (factor declared_to_mm applied); assimp hands over the file's numbers untouched.
   const double applied = is_brep(r.format) && raw.declared_to_mm > 0 ? raw.declared_to_mm : 1.0;
-  const double scale = r.unit_source == "file" ? raw.declared_to_mm / applied
-                                               : unit_to_mm(r.unit) / applied;
+  const double scale =
+      r.unit_source == "file" ? raw.declared_to_mm / applied : unit_to_mm(r.unit) / applied;
   if (scale != 1.0) raw.mesh.scale(static_cast<float>(scale));
 
   const auto t1 = std::chrono::steady_clock::now();

@@ -12,8 +12,8 @@
 #include <STEPCAFControl_Reader.hxx>
 #include <STEPControl_Reader.hxx>
 #include <Standard_Failure.hxx>
-#include <TCollection_AsciiString.hxx>
 #include <TColStd_SequenceOfAsciiString.hxx>
+#include <TCollection_AsciiString.hxx>
 #include <TDF_LabelSequence.hxx>
 #include <TDataStd_Name.hxx>
 #include <TDocStd_Document.hxx>
@@ -142,7 +142,8 @@ RawMesh read_with_occt(const std::string& path, const ImportSettings& s) {
   if (!matched) {
     std::string list;
     for (const auto& n : raw.parts) list += (list.empty() ? "" : ", ") + n;
-    throw Error(path, "no part named '" + s.part + "' (parts: " + (list.empty() ? "none" : list) + ")");
+    throw Error(path,
+                "no part named '" + s.part + "' (parts: " + (list.empty() ? "none" : list) + ")");
   }
   if (!any) throw Error(path, "no solid or surface geometry in file");
 

@@ -28,10 +28,15 @@ std::vector<PartShape> build_needle(const Params& p) {
   const double ch = std::min(p.at("thread_chamfer"), 0.9 * tr);
   const double ch_len = ch > 0 ? 2 * ch : 0.0;
   TopoDS_Shape thread = cylinder(gp_Pnt(0, 0, -tl), gp_Dir(0, 0, 1), tr, tl - ch_len);
-  if (ch_len > 0) thread = fuse(thread, cone(gp_Pnt(0, 0, -ch_len), gp_Dir(0, 0, 1), tr, tr - ch, ch_len));
+  if (ch_len > 0)
+    thread = fuse(thread, cone(gp_Pnt(0, 0, -ch_len), gp_Dir(0, 0, 1), tr, tr - ch, ch_len));
 
-  return {{"needle", "origin at the eye centre; x along the needle towards the point; z through the eye", needle},
-          {"thread_tip", "origin at the centre of the thread end; z along the thread, pointing out of the tip", thread}};
+  return {
+      {"needle",
+       "origin at the eye centre; x along the needle towards the point; z through the eye", needle},
+      {"thread_tip",
+       "origin at the centre of the thread end; z along the thread, pointing out of the tip",
+       thread}};
 }
 
 }  // namespace laserfit::cad

@@ -16,7 +16,8 @@ std::vector<PartShape> build_usb_a(const Params& p) {
   // Plug: front of the shell at z = 0, +z out of the plug (insertion direction), x across the
   // 12 mm width, y across the 4.5 mm height. The contact insulator fills the lower part of the
   // shell; the two latch windows on the top face break the 180 degree symmetry further.
-  TopoDS_Shape plug = cut(box(-W / 2, -H / 2, -Ls, W / 2, H / 2, 0), box(-iw, -ih, -Ls + 1.0, iw, ih, 0.1));
+  TopoDS_Shape plug =
+      cut(box(-W / 2, -H / 2, -Ls, W / 2, H / 2, 0), box(-iw, -ih, -Ls + 1.0, iw, ih, 0.1));
   plug = fuse(plug, box(-iw, -ih, -Ls + 0.5, iw, -ih + 1.95, -0.6));
   for (double sx : {-1.0, 1.0})
     plug = cut(plug, box(sx * 3.25 - 1.0, ih - 0.1, -4.5, sx * 3.25 + 1.0, H / 2 + 0.1, -3.0));
@@ -33,8 +34,14 @@ std::vector<PartShape> build_usb_a(const Params& p) {
   if (tongue_hi > oh - 0.2) throw Error("usb_a: shell_height too small for the socket tongue");
   sock = fuse(sock, box(-iw + 0.3, tongue_lo, 1.5, iw - 0.3, tongue_hi, D + 0.01));
 
-  return {{"usb_a_plug", "origin at the centre of the shell's front opening; z = insertion direction; x across the 12 mm width; y across the 4.5 mm height", plug},
-          {"usb_a_receptacle", "origin at the centre of the socket mouth on the plate's front face; z into the socket; x across the width", sock}};
+  return {{"usb_a_plug",
+           "origin at the centre of the shell's front opening; z = insertion direction; x across "
+           "the 12 mm width; y across the 4.5 mm height",
+           plug},
+          {"usb_a_receptacle",
+           "origin at the centre of the socket mouth on the plate's front face; z into the socket; "
+           "x across the width",
+           sock}};
 }
 
 }  // namespace laserfit::cad

@@ -142,7 +142,8 @@ RepairReport check_and_repair(TriMesh& mesh, const RepairSettings& s, const std:
 
   TriMesh out;
   out.vertices.reserve(sm.number_of_vertices());
-  for (const Point& p : final_pts) out.vertices.emplace_back(float(p.x()), float(p.y()), float(p.z()));
+  for (const Point& p : final_pts)
+    out.vertices.emplace_back(float(p.x()), float(p.y()), float(p.z()));
   for (const auto& p : out_polys) out.faces.emplace_back(int(p[0]), int(p[1]), int(p[2]));
   mesh = std::move(out);
   return r;

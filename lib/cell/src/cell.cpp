@@ -12,7 +12,8 @@ Pose error_pose(const RigidError& e) {
   return T;
 }
 
-Cell::Cell(const CellSettings& settings, uint64_t robot_seed) : s(settings), nominal(robot::ArmModel::panda()) {
+Cell::Cell(const CellSettings& settings, uint64_t robot_seed)
+    : s(settings), nominal(robot::ArmModel::panda()) {
   trueA = robot::perturbed_arm(nominal, s.arm_errors, 2 * robot_seed + 1);
   trueS = robot::perturbed_arm(nominal, s.arm_errors, 2 * robot_seed + 2);
   T_world_baseA_believed = s.T_world_baseA;
@@ -25,7 +26,9 @@ Pose Cell::part_true(const robot::Joints& qA, robot::Repeatability& rep, std::mt
   return T_world_baseA_true * rep.reach(trueA.fk(qA), g) * T_flange_part_true;
 }
 
-Pose Cell::part_believed(const robot::Joints& qA) const { return part_believed_from_flange(nominal.fk(qA)); }
+Pose Cell::part_believed(const robot::Joints& qA) const {
+  return part_believed_from_flange(nominal.fk(qA));
+}
 
 Pose Cell::part_believed_from_flange(const Pose& T_baseA_flange) const {
   return T_world_baseA_believed * T_baseA_flange * s.T_flange_part;
@@ -35,7 +38,8 @@ Pose Cell::flange_for_part(const Pose& T_world_part) const {
   return T_world_baseA_believed.inverse() * T_world_part * s.T_flange_part.inverse();
 }
 
-Insertion check_insertion(const CellSettings& s, const Pose& T_world_target, const Pose& T_world_part) {
+Insertion check_insertion(const CellSettings& s, const Pose& T_world_target,
+                          const Pose& T_world_part) {
   const Pose P = T_world_target.inverse() * T_world_part;  // part in the target frame
   const Pose& Q = s.T_target_part_insert;                  // where it must go
   const Eigen::Vector3d n = Q.linear().col(2), d = P.linear().col(2);
@@ -45,7 +49,8 @@ Insertion check_insertion(const CellSettings& s, const Pose& T_world_target, con
   if (std::abs(d.dot(n)) < 1e-6) return r;  // parallel to the mouth: no crossing
   // Where the part's axis crosses the mouth plane, in the insertion frame.
   const double lambda = -(P.translation() - Q.translation()).dot(n) / d.dot(n);
-  const Eigen::Vector3d c = Q.linear().transpose() * (P.translation() + lambda * d - Q.translation());
+  const Eigen::Vector3d c =
+      Q.linear().transpose() * (P.translation() + lambda * d - Q.translation());
   r.x_mm = c.x(), r.y_mm = c.y();
   // Aligned is not inserted: a tip that stopped above the mouth has not entered (the laser
   // strategy's last move goes to the measured insertion point, nothing pushes further).

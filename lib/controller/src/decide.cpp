@@ -18,32 +18,41 @@ Strategy parse_strategy(const std::string& n) {
 
 const char* strategy_name(Strategy s) {
   switch (s) {
-    case Strategy::ProprioIC1: return "ic1";
-    case Strategy::ProprioIC2: return "ic2";
-    case Strategy::Laser: return "laser";
-    case Strategy::LaserPose: return "laser_pose";
+    case Strategy::ProprioIC1:
+      return "ic1";
+    case Strategy::ProprioIC2:
+      return "ic2";
+    case Strategy::Laser:
+      return "laser";
+    case Strategy::LaserPose:
+      return "laser_pose";
   }
   return "?";
 }
 
-bool acceptable(const registration::RegistrationResult& r, const std::string& weak_rot, const std::string& weak_trans,
-                const Pose& T, std::string* why) {
+bool acceptable(const registration::RegistrationResult& r, const std::string& weak_rot,
+                const std::string& weak_trans, const Pose& T, std::string* why) {
   if (r.status == registration::Status::Ok) return true;
   if (r.status == registration::Status::Ambiguous && r.unobservable <= 2) {
-    auto axis = [&](const std::string& a) { return Eigen::Vector3d(T.linear() * *registration::named_axis(a)); };
-    if (!weak_rot.empty() && registration::weakest_is_rotation_about(r, axis(weak_rot))) return true;
-    if (!weak_trans.empty() && registration::weakest_is_translation_along(r, axis(weak_trans))) return true;
+    auto axis = [&](const std::string& a) {
+      return Eigen::Vector3d(T.linear() * *registration::named_axis(a));
+    };
+    if (!weak_rot.empty() && registration::weakest_is_rotation_about(r, axis(weak_rot)))
+      return true;
+    if (!weak_trans.empty() && registration::weakest_is_translation_along(r, axis(weak_trans)))
+      return true;
   }
-  *why = std::string(registration::status_name(r.status)) + (r.reason.empty() ? "" : " (" + r.reason + ")");
+  *why = std::string(registration::status_name(r.status)) +
+         (r.reason.empty() ? "" : " (" + r.reason + ")");
   return false;
 }
 
-Correction compute_correction(const Measurement& m, const Pose& T_target_part_goal, bool with_orientation,
-                              bool with_axial) {
+Correction compute_correction(const Measurement& m, const Pose& T_target_part_goal,
+                              bool with_orientation, bool with_axial) {
   const Pose goal = m.T_scan_target * T_target_part_goal;  // where the part must be, scan frame
   Correction c;
   Eigen::Vector3d dt = goal.translation() - m.T_scan_part.translation();
-  const Eigen::Vector3d axis = goal.linear().col(2);       // the insertion axis
+  const Eigen::Vector3d axis = goal.linear().col(2);  // the insertion axis
   // Not along the part's own axis where the scan could not fix it, or where the caller says the
   // target hides the part's end (the measured end is short there).
   if (m.part_axial_unknown || !with_axial) {
@@ -60,8 +69,10 @@ Correction compute_correction(const Measurement& m, const Pose& T_target_part_go
     // measured: tilt the part axis in the plane of it and w until that angle is the goal's.
     const Eigen::Vector3d& w = *m.target_prior_spin_axis;
     const Eigen::Vector3d a = m.T_scan_part.linear().col(2), k = a.cross(w);
-    const double tilt = std::acos(std::clamp(a.dot(w), -1.0, 1.0)) - std::acos(std::clamp(axis.dot(w), -1.0, 1.0));
-    dR = k.norm() > 1e-9 ? Eigen::AngleAxisd(tilt, k.normalized()).toRotationMatrix() : Eigen::Matrix3d::Identity();
+    const double tilt =
+        std::acos(std::clamp(a.dot(w), -1.0, 1.0)) - std::acos(std::clamp(axis.dot(w), -1.0, 1.0));
+    dR = k.norm() > 1e-9 ? Eigen::AngleAxisd(tilt, k.normalized()).toRotationMatrix()
+                         : Eigen::Matrix3d::Identity();
   }
   c.angle_deg = Eigen::AngleAxisd(dR).angle() * 180 / M_PI;
   if (with_orientation) {
@@ -88,7 +99,8 @@ ControllerSettings settings_for(const cell::CellSettings& cs) {
   return s;
 }
 
-planning::Trajectory plan(const cell::Cell& c, const Pose& T_baseA_flange, const Pose& delta, const ControllerSettings& s) {
+planning::Trajectory plan(const cell::Cell& c, const Pose& T_baseA_flange, const Pose& delta,
+                          const ControllerSettings& s) {
   // delta acts in the world (the scan frame); in A's base it is conjugated by the believed base
   // transform, so only its rotation part matters for a translation: calibration errors cancel.
   const Pose& B = c.T_world_baseA_believed;

@@ -16,10 +16,12 @@ Eigen::Vector3d viewpoint(const PointCloud& scan) {
   return v;
 }
 
-registration::RegistrationResult register_one(const PointCloud& scan, const PointCloud& ref, const Pose& prior,
-                                              const std::string& object, const std::string& weak_rotation,
-                                              const std::string& weak_translation, const ControllerSettings& s,
-                                              uint64_t seed, bool refine_only = false) {
+registration::RegistrationResult register_one(const PointCloud& scan, const PointCloud& ref,
+                                              const Pose& prior, const std::string& object,
+                                              const std::string& weak_rotation,
+                                              const std::string& weak_translation,
+                                              const ControllerSettings& s, uint64_t seed,
+                                              bool refine_only = false) {
   registration::RegistrationSettings rs;
   s.thresholds.apply(rs, object);
   // The cell's harmless DoFs are the ones the scan is expected not to pin.
@@ -58,12 +60,13 @@ Pose with_prior_spin(const Pose& T, const Pose& prior, const Eigen::Vector3d& e)
   return out;
 }
 
-Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const PointCloud& part_ref,
-                    const Pose& target_prior, const Pose& part_prior, const cell::CellSettings& cs,
-                    const ControllerSettings& s, uint64_t seed, std::vector<std::string>& log,
-                    const std::optional<Pose>& tracked_target, const std::optional<Pose>& tracked_part) {
+Measurement measure(const PointCloud& scan, const PointCloud& target_ref,
+                    const PointCloud& part_ref, const Pose& target_prior, const Pose& part_prior,
+                    const cell::CellSettings& cs, const ControllerSettings& s, uint64_t seed,
+                    std::vector<std::string>& log, const std::optional<Pose>& tracked_target,
+                    const std::optional<Pose>& tracked_part) {
   Measurement m;
-  const auto& tname = cs.scene.objects[cs.target].name, &pname = cs.scene.objects[cs.part].name;
+  const auto &tname = cs.scene.objects[cs.target].name, &pname = cs.scene.objects[cs.part].name;
   std::string why;
   const std::string &tw_rot = cs.target_weak_rotation, &tw_trans = cs.target_weak_translation;
   auto check_target = [&] {
@@ -84,18 +87,22 @@ Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const 
   // enough. It also keeps the whole target together where the part's shadow cuts it in two.
   bool ok = false;
   if (tracked_target) {
-    m.target = register_one(scan, target_ref, *tracked_target, tname, tw_rot, tw_trans, s, seed, true);
+    m.target =
+        register_one(scan, target_ref, *tracked_target, tname, tw_rot, tw_trans, s, seed, true);
     ok = check_target();
-    if (!ok) log.push_back("refining " + tname + " from its last measurement: " + why + "; full registration");
+    if (!ok)
+      log.push_back("refining " + tname + " from its last measurement: " + why +
+                    "; full registration");
   }
   if (!ok) {
-    m.target = register_one(scan, target_ref, tracked_target ? *tracked_target : target_prior, tname, tw_rot,
-                            tw_trans, s, seed);
+    m.target = register_one(scan, target_ref, tracked_target ? *tracked_target : target_prior,
+                            tname, tw_rot, tw_trans, s, seed);
     ok = check_target();
   }
   if (!ok) {
     m.reason = tname + " registration " + why;
-    log.push_back("registered " + tname + ": " + registration::status_name(m.target.status) + " -> rejected: " + m.reason);
+    log.push_back("registered " + tname + ": " + registration::status_name(m.target.status) +
+                  " -> rejected: " + m.reason);
     return m;
   }
   m.target_ok = true;
@@ -105,9 +112,10 @@ Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const 
   // Better still, the last measurement moved by the commands since (their error is ~0.1 of their
   // length, the model's is mm): a thread that returned nothing from a few profiles is seen in
   // pieces, and the piece nearest a prior mm off need not hold the tip (trial 441: 3 mm short).
-  const Pose relative_prior = m.T_scan_target * (tracked_part ? *tracked_part : target_prior.inverse() * part_prior);
-  m.part = register_one(scan, part_ref, relative_prior, pname, cs.part_weak_rotation, cs.part_weak_translation, s,
-                        seed + 1);
+  const Pose relative_prior =
+      m.T_scan_target * (tracked_part ? *tracked_part : target_prior.inverse() * part_prior);
+  m.part = register_one(scan, part_ref, relative_prior, pname, cs.part_weak_rotation,
+                        cs.part_weak_translation, s, seed + 1);
   m.T_scan_part = m.part.T_scan_ref;
   if (!acceptable(m.part, cs.part_weak_rotation, cs.part_weak_translation, m.T_scan_part, &why)) {
     m.reason = pname + " registration " + why;
@@ -115,7 +123,8 @@ Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const 
     const Eigen::Vector3d t = relative_prior.translation(), a = relative_prior.linear().col(2);
     std::ostringstream l;
     l.precision(4);
-    l << "  " << pname << " prior (scan frame): origin " << t.transpose() << " mm, z axis " << a.transpose();
+    l << "  " << pname << " prior (scan frame): origin " << t.transpose() << " mm, z axis "
+      << a.transpose();
     log.push_back(l.str());
   } else {
     m.ok = true;
@@ -123,12 +132,14 @@ Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const 
     // behind slides along itself). A thread's tip end is measured (to about one profile step):
     // it is corrected, or an IC2 approach's millimetres along the axis would stay (the tip
     // stopping above the eye, aligned but not inserted).
-    m.part_axial_unknown = m.part.status == registration::Status::Ambiguous &&
-                           registration::weakest_is_translation_along(m.part, m.T_scan_part.linear().col(2));
+    m.part_axial_unknown =
+        m.part.status == registration::Status::Ambiguous &&
+        registration::weakest_is_translation_along(m.part, m.T_scan_part.linear().col(2));
   }
   std::ostringstream l;
-  l << "registered " << tname << ": " << registration::status_name(m.target.status) << ", " << pname << ": "
-    << registration::status_name(m.part.status) << (m.ok ? " -> accepted" : " -> rejected: " + m.reason);
+  l << "registered " << tname << ": " << registration::status_name(m.target.status) << ", " << pname
+    << ": " << registration::status_name(m.part.status)
+    << (m.ok ? " -> accepted" : " -> rejected: " + m.reason);
   log.push_back(l.str());
   return m;
 }

@@ -11,7 +11,8 @@
 namespace laserfit::controller {
 namespace {
 
-robot::Joints ik_or_throw(const robot::ArmModel& arm, const Pose& T, const robot::Joints& hint, const std::string& what) {
+robot::Joints ik_or_throw(const robot::ArmModel& arm, const Pose& T, const robot::Joints& hint,
+                          const std::string& what) {
   robot::IkSettings ik;
   ik.use_q_ref = true, ik.q_ref = hint, ik.max_iterations = 3000;
   const auto r = robot::solve_ik(arm, T, hint, ik);
@@ -30,10 +31,13 @@ SimSetup prepare_setting(const cell::Cell& c, int k, const ControllerSettings& s
   su.T_world_target = cs.target_poses.at(k);
   // Teaching: the operator guides the true arm until the part sits in the target.
   const Pose part_at_insert = su.T_world_target * cs.T_target_part_insert;
-  const Pose flange_true = c.T_world_baseA_true.inverse() * part_at_insert * c.T_flange_part_true.inverse();
-  su.q_taught = ik_or_throw(c.trueA, flange_true, cs.q_teach_hint, cs.file + ": setting " + std::to_string(k) + " insertion");
+  const Pose flange_true =
+      c.T_world_baseA_true.inverse() * part_at_insert * c.T_flange_part_true.inverse();
+  su.q_taught = ik_or_throw(c.trueA, flange_true, cs.q_teach_hint,
+                            cs.file + ": setting " + std::to_string(k) + " insertion");
   su.p_ins = c.nominal.fk(su.q_taught);  // what the robot records
-  su.T_world_target_believed = c.T_world_baseA_believed * su.p_ins * cs.T_flange_part * cs.T_target_part_insert.inverse();
+  su.T_world_target_believed =
+      c.T_world_baseA_believed * su.p_ins * cs.T_flange_part * cs.T_target_part_insert.inverse();
   su.q_ic2_ref = su.q_taught;
   su.q_ic2_ref[0] += cs.ic2_joint1_deg * M_PI / 180;
   // Start configurations: the i-th is i * step from the insertion pose (up and aside, seeded).
@@ -42,13 +46,15 @@ SimSetup prepare_setting(const cell::Cell& c, int k, const ControllerSettings& s
     Eigen::Vector3d dir(2 * uniform01(g) - 1, 2 * uniform01(g) - 1, 1.0);
     Pose start = su.p_ins;
     start.translation() += dir.normalized() * (i * cs.start_step_mm);
-    su.q_start.push_back(ik_or_throw(c.nominal, start, su.q_taught, cs.file + ": start configuration " + std::to_string(i)));
+    su.q_start.push_back(ik_or_throw(c.nominal, start, su.q_taught,
+                                     cs.file + ": start configuration " + std::to_string(i)));
   }
   // The scan pose is taught too: the sensor placed where it sees the true target as the scene's
   // sweep does. The robot records its joints; what it believes about that pose is nominal fk.
   const auto& scene = cs.scene;
   const Pose scene_target = scene.objects[cs.target].T_base_object;
-  const Pose sensor_true = su.T_world_target * scene_target.inverse() * scene.settings.sweep.T_base_sensor_start;
+  const Pose sensor_true =
+      su.T_world_target * scene_target.inverse() * scene.settings.sweep.T_base_sensor_start;
   su.q_scan = ik_or_throw(c.trueS, sensor_true * c.T_flange_sensor_true.inverse(), cs.q_sense_hint,
                           cs.file + ": scan pose of setting " + std::to_string(k));
   su.T_world_sensor_start = c.nominal.fk(su.q_scan) * cs.T_flange_sensor;
@@ -65,14 +71,15 @@ SimSetup prepare_setting(const cell::Cell& c, int k, const ControllerSettings& s
   // (the designed geometry; the arms' beliefs do not enter).
   Pose approach = cs.T_target_part_insert;
   approach.translation() = cs.approach_mm;
-  su.target_ref = scan::view_reference(scene.objects[cs.target].mesh, scene_target, scene.settings, s.reference_points, seed);
-  su.part_ref = scan::view_reference(scene.objects[cs.part].mesh, scene_target * approach, scene.settings,
-                                     s.reference_points, seed + 1);
+  su.target_ref = scan::view_reference(scene.objects[cs.target].mesh, scene_target, scene.settings,
+                                       s.reference_points, seed);
+  su.part_ref = scan::view_reference(scene.objects[cs.part].mesh, scene_target * approach,
+                                     scene.settings, s.reference_points, seed + 1);
   return su;
 }
 
-PointCloud scan_cell(const cell::Cell& c, const SimSetup& su, const Pose& T_world_part_true, uint64_t seed,
-                     std::mt19937_64& g, double sweep_mm, bool raised) {
+PointCloud scan_cell(const cell::Cell& c, const SimSetup& su, const Pose& T_world_part_true,
+                     uint64_t seed, std::mt19937_64& g, double sweep_mm, bool raised) {
   const auto& cs = c.s;
   scan::ScanScene sc = cs.scene;
   sc.seed = seed;
@@ -80,15 +87,18 @@ PointCloud scan_cell(const cell::Cell& c, const SimSetup& su, const Pose& T_worl
   // believed frame, so the objects move by the difference.
   const robot::Joints& q = raised ? su.q_scan_raised : su.q_scan;
   const Pose& believed = raised ? su.T_world_sensor_raised : su.T_world_sensor_start;
-  const Pose T_true = robot::with_repeatability(c.trueS.fk(q), cs.arm_errors, g) * c.T_flange_sensor_true;
+  const Pose T_true =
+      robot::with_repeatability(c.trueS.fk(q), cs.arm_errors, g) * c.T_flange_sensor_true;
   const Pose to_believed = believed * T_true.inverse();
   sc.settings.sweep.T_base_sensor_start = believed;
-  sc.settings.motion.offset_sigma_mm = 0, sc.settings.motion.offset_sigma_deg = 0;  // the arm model has them
+  sc.settings.motion.offset_sigma_mm = 0,
+  sc.settings.motion.offset_sigma_deg = 0;  // the arm model has them
   // A longer sweep starts earlier by half the extra length: the same straight motion of the
   // sensing arm, whose (linear, mm-short) error the sweep model already neglects.
   auto& sw = sc.settings.sweep;
   if (sweep_mm > sw.length_mm) {
-    sw.T_base_sensor_start = sw.T_base_sensor_start * Eigen::Translation3d(-sw.direction * (sweep_mm - sw.length_mm) / 2);
+    sw.T_base_sensor_start = sw.T_base_sensor_start *
+                             Eigen::Translation3d(-sw.direction * (sweep_mm - sw.length_mm) / 2);
     sw.length_mm = sweep_mm;
   }
   // Other objects of the scene stay where they are relative to the target.

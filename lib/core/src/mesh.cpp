@@ -16,7 +16,8 @@ Eigen::Vector3f TriMesh::extent() const {
 
 Eigen::Vector3f TriMesh::face_normal(int f) const {
   const auto& t = faces[f];
-  const Eigen::Vector3f n = (vertices[t[1]] - vertices[t[0]]).cross(vertices[t[2]] - vertices[t[0]]);
+  const Eigen::Vector3f n =
+      (vertices[t[1]] - vertices[t[0]]).cross(vertices[t[2]] - vertices[t[0]]);
   const float len = n.norm();
   return len > 0.f ? Eigen::Vector3f(n / len) : Eigen::Vector3f::Zero();
 }

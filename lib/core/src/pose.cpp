@@ -32,8 +32,8 @@ Pose parse_pose(const std::string& text, const std::string& what) {
   if (v.size() == 7) {
     const Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);
     if (std::abs(q.norm() - 1.0) > 1e-3)
-      throw Error(what, "quaternion (w,x,y,z) is not unit length (|q| = " +
-                            std::to_string(q.norm()) + ")");
+      throw Error(
+          what, "quaternion (w,x,y,z) is not unit length (|q| = " + std::to_string(q.norm()) + ")");
     return pose_from_tq({v[0], v[1], v[2]}, q);
   }
   if (v.size() == 16) {

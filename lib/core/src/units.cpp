@@ -16,24 +16,36 @@ Unit parse_unit(const std::string& s) {
 
 std::string unit_name(Unit u) {
   switch (u) {
-    case Unit::Auto: return "auto";
-    case Unit::Millimetre: return "mm";
-    case Unit::Centimetre: return "cm";
-    case Unit::Metre: return "m";
-    case Unit::Inch: return "in";
-    case Unit::Micrometre: return "um";
+    case Unit::Auto:
+      return "auto";
+    case Unit::Millimetre:
+      return "mm";
+    case Unit::Centimetre:
+      return "cm";
+    case Unit::Metre:
+      return "m";
+    case Unit::Inch:
+      return "in";
+    case Unit::Micrometre:
+      return "um";
   }
   return "?";
 }
 
 double unit_to_mm(Unit u) {
   switch (u) {
-    case Unit::Millimetre: return 1.0;
-    case Unit::Centimetre: return 10.0;
-    case Unit::Metre: return 1000.0;
-    case Unit::Inch: return 25.4;
-    case Unit::Micrometre: return 1e-3;
-    case Unit::Auto: break;
+    case Unit::Millimetre:
+      return 1.0;
+    case Unit::Centimetre:
+      return 10.0;
+    case Unit::Metre:
+      return 1000.0;
+    case Unit::Inch:
+      return 25.4;
+    case Unit::Micrometre:
+      return 1e-3;
+    case Unit::Auto:
+      break;
   }
   throw Error("unit 'auto' has no scale; resolve it first");
 }

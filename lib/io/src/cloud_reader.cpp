@@ -29,7 +29,8 @@ void check_header(const std::string& path, const std::string& ext) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
   if (ext == ".ply") {
-    if (!std::getline(in, line) || line.rfind("ply", 0) != 0) throw Error(path, "not a PLY file (no 'ply' magic)");
+    if (!std::getline(in, line) || line.rfind("ply", 0) != 0)
+      throw Error(path, "not a PLY file (no 'ply' magic)");
     for (int i = 0; i < 10000 && std::getline(in, line); ++i)
       if (line.rfind("end_header", 0) == 0) return;
     throw Error(path, "PLY header has no end_header (truncated or corrupt)");
@@ -38,9 +39,12 @@ void check_header(const std::string& path, const std::string& ext) {
   for (int i = 0; i < 10000 && std::getline(in, line); ++i) {
     if (line.empty() || line[0] == '#') continue;
     const std::string key = line.substr(0, line.find(' '));
-    if (key == "FIELDS") fields = true;
-    else if (key == "WIDTH") width = true;
-    else if (key == "POINTS") points = true;
+    if (key == "FIELDS")
+      fields = true;
+    else if (key == "WIDTH")
+      width = true;
+    else if (key == "POINTS")
+      points = true;
     else if (key == "DATA") {
       if (fields && width && points) return;
       break;
@@ -101,7 +105,8 @@ PointCloud read_cloud(const std::string& path) {
   if (ox < 0 || oy < 0 || oz < 0) throw Error(path, "no float x, y, z fields");
   int onx = float_field(blob, "normal_x"), ony = float_field(blob, "normal_y"),
       onz = float_field(blob, "normal_z");
-  if (onx < 0) onx = float_field(blob, "nx"), ony = float_field(blob, "ny"), onz = float_field(blob, "nz");
+  if (onx < 0)
+    onx = float_field(blob, "nx"), ony = float_field(blob, "ny"), onz = float_field(blob, "nz");
   const bool normals = onx >= 0 && ony >= 0 && onz >= 0;
   int olabel = -1;
   for (const auto& f : blob.fields)

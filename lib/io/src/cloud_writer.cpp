@@ -29,8 +29,8 @@ void write_pcd(std::ostream& out, const PointCloud& c) {
   const int fields = 3 + (n ? 3 : 0) + (l ? 1 : 0);
   out << "# .PCD v0.7 - Point Cloud Data file format\n";
   for (const auto& [k, v] : c.metadata) out << "# laserfit." << k << " " << one_line(v) << "\n";
-  out << "VERSION 0.7\nFIELDS x y z" << (n ? " normal_x normal_y normal_z" : "") << (l ? " label" : "")
-      << "\nSIZE";
+  out << "VERSION 0.7\nFIELDS x y z" << (n ? " normal_x normal_y normal_z" : "")
+      << (l ? " label" : "") << "\nSIZE";
   for (int i = 0; i < fields; ++i) out << " 4";
   out << "\nTYPE";
   for (int i = 0; i < fields; ++i) out << (l && i == fields - 1 ? " I" : " F");
@@ -42,7 +42,8 @@ void write_pcd(std::ostream& out, const PointCloud& c) {
 
 void write_ply(std::ostream& out, const PointCloud& c) {
   out << "ply\nformat binary_little_endian 1.0\n";
-  for (const auto& [k, v] : c.metadata) out << "comment laserfit." << k << " " << one_line(v) << "\n";
+  for (const auto& [k, v] : c.metadata)
+    out << "comment laserfit." << k << " " << one_line(v) << "\n";
   if (c.organized()) out << "obj_info width " << c.width << " height " << c.height << "\n";
   out << "element vertex " << c.size() << "\n"
       << "property float x\nproperty float y\nproperty float z\n";

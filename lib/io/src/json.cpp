@@ -25,8 +25,8 @@ Pose pose_from_json(const Json& j, const std::string& what) {
         for (int c = 0; c < 4; ++c) M(r, c) = m[r][c];
       }
       const Eigen::Matrix3d R = M.topLeftCorner<3, 3>();
-      if (!M.allFinite() || (R * R.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6 || R.determinant() < 0 ||
-          (M.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() > 1e-12)
+      if (!M.allFinite() || (R * R.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6 ||
+          R.determinant() < 0 || (M.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() > 1e-12)
         throw Error(what, "matrix is not a rigid transform");
       Pose T = Pose::Identity();
       T.matrix() = M;

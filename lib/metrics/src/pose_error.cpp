@@ -11,7 +11,9 @@ namespace laserfit::metrics {
 
 std::vector<Eigen::Matrix3d> Symmetry::rotations(double step_deg) const {
   std::vector<Eigen::Matrix3d> out;
-  const int n = kind == Kind::None ? 1 : kind == Kind::Discrete ? order : int(std::ceil(360.0 / step_deg));
+  const int n = kind == Kind::None       ? 1
+                : kind == Kind::Discrete ? order
+                                         : int(std::ceil(360.0 / step_deg));
   for (int k = 0; k < n; ++k)
     out.push_back(Eigen::AngleAxisd(2 * M_PI * k / n, axis.normalized()).toRotationMatrix());
   return out;
@@ -33,15 +35,20 @@ Symmetry parse_symmetry(const std::string& text) {
   in >> kind;
   auto read_axis = [&] {
     in >> axis;
-    if (axis == "x") s.axis = Eigen::Vector3d::UnitX();
-    else if (axis == "y") s.axis = Eigen::Vector3d::UnitY();
-    else if (axis == "z") s.axis = Eigen::Vector3d::UnitZ();
-    else throw Error("symmetry '" + text + "': axis must be x, y or z");
+    if (axis == "x")
+      s.axis = Eigen::Vector3d::UnitX();
+    else if (axis == "y")
+      s.axis = Eigen::Vector3d::UnitY();
+    else if (axis == "z")
+      s.axis = Eigen::Vector3d::UnitZ();
+    else
+      throw Error("symmetry '" + text + "': axis must be x, y or z");
   };
   if (kind == "none") {
   } else if (kind == "discrete") {
     s.kind = Symmetry::Kind::Discrete;
-    if (!(in >> s.order) || s.order < 2) throw Error("symmetry '" + text + "': expected 'discrete N axis', N >= 2");
+    if (!(in >> s.order) || s.order < 2)
+      throw Error("symmetry '" + text + "': expected 'discrete N axis', N >= 2");
     read_axis();
   } else if (kind == "continuous") {
     s.kind = Symmetry::Kind::Continuous;
@@ -67,9 +74,12 @@ PoseError pose_error(const Pose& est, const Pose& gt, const Symmetry& sym,
     Pose G = gt;
     G.linear() = gt.rotation() * S;
     if (sym.kind != Symmetry::Kind::Continuous)
-      best.r_deg = std::min(best.r_deg, Eigen::AngleAxisd(est.rotation().transpose() * G.rotation()).angle() * 180 / M_PI);
+      best.r_deg = std::min(
+          best.r_deg,
+          Eigen::AngleAxisd(est.rotation().transpose() * G.rotation()).angle() * 180 / M_PI);
     double m = 0;
-    for (const auto& x : model) m = std::max(m, (est * x.cast<double>() - G * x.cast<double>()).norm());
+    for (const auto& x : model)
+      m = std::max(m, (est * x.cast<double>() - G * x.cast<double>()).norm());
     best.mssd_mm = std::min(best.mssd_mm, m);
   }
   return best;

@@ -24,7 +24,8 @@ double duration_for(double d, double v, double a, double j) {
 std::array<double, 3> peaks(const std::vector<Eigen::Vector3d>& x, double dt) {
   std::array<double, 3> p = {0, 0, 0};
   for (size_t i = 1; i < x.size(); ++i) p[0] = std::max(p[0], (x[i] - x[i - 1]).norm() / dt);
-  for (size_t i = 2; i < x.size(); ++i) p[1] = std::max(p[1], (x[i] - 2 * x[i - 1] + x[i - 2]).norm() / (dt * dt));
+  for (size_t i = 2; i < x.size(); ++i)
+    p[1] = std::max(p[1], (x[i] - 2 * x[i - 1] + x[i - 2]).norm() / (dt * dt));
   for (size_t i = 3; i < x.size(); ++i)
     p[2] = std::max(p[2], (x[i] - 3 * x[i - 1] + 3 * x[i - 2] - x[i - 3]).norm() / (dt * dt * dt));
   return p;
@@ -35,7 +36,8 @@ std::array<double, 3> peaks(const std::vector<Eigen::Vector3d>& x, double dt) {
 void CorrectionSettings::validate() const {
   if (!(max_translation_mm > 0 && max_rotation_deg > 0 && rate_hz >= 10 && rate_hz <= 100000 &&
         speed_fraction > 0 && speed_fraction <= 1 && min_duration_s >= 0))
-    throw Error("correction settings: amplitudes > 0, rate 10..100000 Hz, speed fraction in (0, 1]");
+    throw Error(
+        "correction settings: amplitudes > 0, rate 10..100000 Hz, speed fraction in (0, 1]");
 }
 
 Trajectory plan_correction(const Pose& A, const Pose& B, const CorrectionSettings& s) {
@@ -50,15 +52,17 @@ Trajectory plan_correction(const Pose& A, const Pose& B, const CorrectionSetting
   }
   if (tr.translation_mm > s.max_translation_mm || tr.rotation_deg > s.max_rotation_deg) {
     std::ostringstream m;
-    m << "correction of " << tr.translation_mm << " mm / " << tr.rotation_deg << " deg exceeds the limit of "
-      << s.max_translation_mm << " mm / " << s.max_rotation_deg << " deg";
+    m << "correction of " << tr.translation_mm << " mm / " << tr.rotation_deg
+      << " deg exceeds the limit of " << s.max_translation_mm << " mm / " << s.max_rotation_deg
+      << " deg";
     tr.reason = m.str();
     return tr;
   }
   const auto& L = s.limits;
   const double f = s.speed_fraction;
   double T = std::max({duration_for(tr.translation_mm, f * L.v_mm_s, f * L.a_mm_s2, f * L.j_mm_s3),
-                       duration_for(dR.angle(), f * L.w_rad_s, f * L.dw_rad_s2, f * L.ddw_rad_s3), s.min_duration_s});
+                       duration_for(dR.angle(), f * L.w_rad_s, f * L.dw_rad_s2, f * L.ddw_rad_s3),
+                       s.min_duration_s});
   const double dt = 1.0 / s.rate_hz;
   const int n = std::max(2, int(std::ceil(T / dt)));
   T = n * dt;  // whole samples; a longer duration only lowers the peaks
@@ -78,8 +82,8 @@ Trajectory plan_correction(const Pose& A, const Pose& B, const CorrectionSetting
   tr.peak_v_mm_s = pp[0], tr.peak_a_mm_s2 = pp[1], tr.peak_j_mm_s3 = pp[2];
   tr.peak_w_rad_s = pr[0], tr.peak_dw_rad_s2 = pr[1], tr.peak_ddw_rad_s3 = pr[2];
   // The plan is checked on its own samples, not trusted from the formula.
-  const bool within = pp[0] <= L.v_mm_s && pp[1] <= L.a_mm_s2 && pp[2] <= L.j_mm_s3 && pr[0] <= L.w_rad_s &&
-                      pr[1] <= L.dw_rad_s2 && pr[2] <= L.ddw_rad_s3;
+  const bool within = pp[0] <= L.v_mm_s && pp[1] <= L.a_mm_s2 && pp[2] <= L.j_mm_s3 &&
+                      pr[0] <= L.w_rad_s && pr[1] <= L.dw_rad_s2 && pr[2] <= L.ddw_rad_s3;
   if (!within) {
     tr.samples.clear();
     tr.reason = "sampled trajectory exceeds the Cartesian limits";

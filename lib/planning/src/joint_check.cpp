@@ -8,7 +8,8 @@
 
 namespace laserfit::planning {
 
-JointCheck follow_in_joints(const robot::ArmModel& arm, const Trajectory& traj, const robot::Joints& q_start) {
+JointCheck follow_in_joints(const robot::ArmModel& arm, const Trajectory& traj,
+                            const robot::Joints& q_start) {
   JointCheck c;
   if (!traj.ok || traj.samples.size() < 2) {
     c.reason = "no trajectory to follow";
@@ -32,17 +33,21 @@ JointCheck follow_in_joints(const robot::ArmModel& arm, const Trajectory& traj, 
   const auto& L = arm.limits;
   auto fail = [&](const char* what, size_t i, int j) {
     std::ostringstream m;
-    m << "joint " << j + 1 << " exceeds its " << what << " limit at t = " << traj.samples[i].t_s << " s";
+    m << "joint " << j + 1 << " exceeds its " << what << " limit at t = " << traj.samples[i].t_s
+      << " s";
     c.reason = m.str();
     return c;
   };
   for (size_t i = 0; i < c.q.size(); ++i)
     for (int j = 0; j < 7; ++j) {
       if (c.q[i][j] < L.q_min[j] || c.q[i][j] > L.q_max[j]) return fail("position", i, j);
-      if (i >= 1 && std::abs(c.q[i][j] - c.q[i - 1][j]) / dt > L.qd_max[j]) return fail("velocity", i, j);
-      if (i >= 2 && std::abs(c.q[i][j] - 2 * c.q[i - 1][j] + c.q[i - 2][j]) / (dt * dt) > L.qdd_max[j])
+      if (i >= 1 && std::abs(c.q[i][j] - c.q[i - 1][j]) / dt > L.qd_max[j])
+        return fail("velocity", i, j);
+      if (i >= 2 &&
+          std::abs(c.q[i][j] - 2 * c.q[i - 1][j] + c.q[i - 2][j]) / (dt * dt) > L.qdd_max[j])
         return fail("acceleration", i, j);
-      if (i >= 3 && std::abs(c.q[i][j] - 3 * c.q[i - 1][j] + 3 * c.q[i - 2][j] - c.q[i - 3][j]) / (dt * dt * dt) >
+      if (i >= 3 && std::abs(c.q[i][j] - 3 * c.q[i - 1][j] + 3 * c.q[i - 2][j] - c.q[i - 3][j]) /
+                            (dt * dt * dt) >
                         L.qddd_max[j])
         return fail("jerk", i, j);
     }
@@ -57,8 +62,8 @@ void write_trajectory_csv(const std::string& path, const Trajectory& traj) {
   o << "t_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n";
   for (const auto& s : traj.samples) {
     const auto v = pose_to_tq(s.T_base_flange);
-    o << s.t_s << ',' << v[0] << ',' << v[1] << ',' << v[2] << ',' << v[3] << ',' << v[4] << ',' << v[5] << ','
-      << v[6] << '\n';
+    o << s.t_s << ',' << v[0] << ',' << v[1] << ',' << v[2] << ',' << v[3] << ',' << v[4] << ','
+      << v[5] << ',' << v[6] << '\n';
   }
   write_file_atomic(path, o.str());
 }

@@ -52,9 +52,8 @@ Scene& Scene::operator=(Scene&&) noexcept = default;
 int Scene::add_mesh(const TriMesh& mesh, const Pose& T) {
   if (mesh.empty()) throw Error("cannot add an empty mesh to the ray-casting scene");
   RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                                                        mesh.vertices.size()));
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+      g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertices.size()));
   const Eigen::Affine3f Tf = T.cast<float>();
   for (size_t i = 0; i < mesh.vertices.size(); ++i) {
     const Eigen::Vector3f p = Tf * mesh.vertices[i];
@@ -119,8 +118,7 @@ bool Scene::occluded(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t
   return r.tfar < 0.f;  // Embree sets tfar = -inf on a hit
 }
 
-bool Scene::segment_clear(const Eigen::Vector3f& from, const Eigen::Vector3f& to,
-                          float eps) const {
+bool Scene::segment_clear(const Eigen::Vector3f& from, const Eigen::Vector3f& to, float eps) const {
   const Eigen::Vector3f d = to - from;
   const float len = d.norm();
   if (len <= 2 * eps) return true;
@@ -159,8 +157,9 @@ void Scene::intersect_fan(const Eigen::Vector3f& o, const std::vector<Eigen::Vec
 }
 
 void Scene::segments_clear(const std::vector<Eigen::Vector3f>& from,
-                           const std::vector<Eigen::Vector3f>& to, const std::vector<uint8_t>& active,
-                           float eps, std::vector<uint8_t>& clear) const {
+                           const std::vector<Eigen::Vector3f>& to,
+                           const std::vector<uint8_t>& active, float eps,
+                           std::vector<uint8_t>& clear) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   alignas(64) RTCRay8 r;

@@ -15,7 +15,9 @@
 namespace laserfit::registration {
 namespace {
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 size_t finite_points(const PointCloud& c) {
   size_t n = 0;
@@ -68,7 +70,8 @@ const Candidate* pick_best(const std::vector<Candidate>& all, bool paper) {
   for (const auto& c : all) most = std::max(most, c.fit.overlap);
   const Candidate* best = nullptr;
   for (const auto& c : all)
-    if ((paper || c.fit.overlap >= 0.98 * most) && (!best || c.fit.fitness_mm2 < best->fit.fitness_mm2))
+    if ((paper || c.fit.overlap >= 0.98 * most) &&
+        (!best || c.fit.fitness_mm2 < best->fit.fitness_mm2))
       best = &c;
   return best;
 }
@@ -76,9 +79,12 @@ const Candidate* pick_best(const std::vector<Candidate>& all, bool paper) {
 
 const char* status_name(Status s) {
   switch (s) {
-    case Status::Ok: return "ok";
-    case Status::Ambiguous: return "ambiguous";
-    case Status::Failed: return "failed";
+    case Status::Ok:
+      return "ok";
+    case Status::Ambiguous:
+      return "ambiguous";
+    case Status::Failed:
+      return "failed";
   }
   return "?";
 }
@@ -138,11 +144,14 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
     const bool from_prior = s.prior && a == 0;
     if (from_prior && coarse) r.log.push_back(head + "starting from the prior pose");
     const bool found = !coarse || from_prior ? true
-                       : gated ? coarse_align_gated(ref_c, ref_f, scan_c, scan_f, s.coarse, cvox, seed, s.q0, s.rho_rot_deg, T0)
-                               : coarse_align(ref_c, ref_f, scan_c, scan_f, s.coarse, cvox, seed, T0);
+                       : gated
+                           ? coarse_align_gated(ref_c, ref_f, scan_c, scan_f, s.coarse, cvox, seed,
+                                                s.q0, s.rho_rot_deg, T0)
+                           : coarse_align(ref_c, ref_f, scan_c, scan_f, s.coarse, cvox, seed, T0);
     if (!found || !T0.matrix().allFinite()) {
       t_ransac += since(t);
-      r.log.push_back(head + "RANSAC found no hypothesis with inlier fraction " + fmt(s.coarse.inlier_fraction));
+      r.log.push_back(head + "RANSAC found no hypothesis with inlier fraction " +
+                      fmt(s.coarse.inlier_fraction));
       continue;
     }
     t_ransac += since(t);
@@ -154,18 +163,20 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
       }
     }
     if (coarse && !from_prior)
-      r.log.push_back(head + "RANSAC pose t = [" + fmt(T0.translation().x()) + ", " + fmt(T0.translation().y()) +
-                      ", " + fmt(T0.translation().z()) + "]");
+      r.log.push_back(head + "RANSAC pose t = [" + fmt(T0.translation().x()) + ", " +
+                      fmt(T0.translation().y()) + ", " + fmt(T0.translation().z()) + "]");
     t = Clock::now();
     // PCL's least-squares ICP variants divide by a singular matrix when the data cannot fix all
     // six directions (a cylinder seen from the side) and then abort inside PCL on NaN poses; the
     // damped Ceres solve handles it, so degenerate data goes there.
     RefineFn use = refine;
     if (refine != refine_ceres) {
-      const Eigen::SelfAdjointEigenSolver<Matrix6d> es(plane_system(*scan, *ref_tree, T0, matcher).H);
+      const Eigen::SelfAdjointEigenSolver<Matrix6d> es(
+          plane_system(*scan, *ref_tree, T0, matcher).H);
       if (es.eigenvalues()[0] < 1e-6 * es.eigenvalues()[5]) use = refine_ceres;
     }
-    const RefineOutput out = use({ref, scan, tree, ref_tree, T0, voxel, s.refine, s.pre.use_viewpoint});
+    const RefineOutput out =
+        use({ref, scan, tree, ref_tree, T0, voxel, s.refine, s.pre.use_viewpoint});
     t_icp += since(t);
     r.iterations += out.iterations;
     if (!out.T.matrix().allFinite()) {  // a degenerate solve (e.g. planar data): no pose
@@ -178,21 +189,23 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
     if (s.q0 && s.refine.method != "paper") {
       const double d_phi = rotation_angle(Eigen::Quaterniond(out.T.rotation()), *s.q0) * 180 / M_PI;
       if (d_phi > s.rho_rot_deg) {
-        r.log.push_back(head + "rejected: refined to d_phi(q, q0) = " + fmt(d_phi) + " deg > rho_rot");
+        r.log.push_back(head + "rejected: refined to d_phi(q, q0) = " + fmt(d_phi) +
+                        " deg > rho_rot");
         continue;
       }
     }
     const Candidate c{out.T, evaluate(*scan, *ref_tree, out.T, matcher)};
-    r.log.push_back(head + "refined: fitness " + fmt(c.fit.fitness_mm2 / (voxel * voxel)) + " voxel^2, rmse " +
-                    fmt(c.fit.rmse_mm * 1e3) + " um, overlap " + fmt(c.fit.overlap) + ", t = [" +
-                    fmt(out.T.translation().x()) + ", " + fmt(out.T.translation().y()) + ", " +
-                    fmt(out.T.translation().z()) + "]");
+    r.log.push_back(head + "refined: fitness " + fmt(c.fit.fitness_mm2 / (voxel * voxel)) +
+                    " voxel^2, rmse " + fmt(c.fit.rmse_mm * 1e3) + " um, overlap " +
+                    fmt(c.fit.overlap) + ", t = [" + fmt(out.T.translation().x()) + ", " +
+                    fmt(out.T.translation().y()) + ", " + fmt(out.T.translation().z()) + "]");
     converged.push_back(c);
     if (c.fit.fitness_mm2 < rho_icp) good.push_back(c);
     // Stop once two converged attempts agree (one when there is no coarse stage to repeat).
     if (!coarse) break;  // without a coarse stage every attempt would repeat this one
     bool agreed = false;
-    for (size_t i = 0; i + 1 < good.size() && !agreed; ++i) agreed = agree(good[i].T, good.back().T, *ref, s.trust);
+    for (size_t i = 0; i + 1 < good.size() && !agreed; ++i)
+      agreed = agree(good[i].T, good.back().T, *ref, s.trust);
     if (agreed) break;
   }
   r.timings_s["ransac"] = t_ransac;
@@ -223,8 +236,8 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
         nearest = &c;
     if (nearest->T.matrix() != best.T.matrix()) {
       r.log.push_back("ambiguous: kept the converged attempt nearest to the prior, t = [" +
-                      fmt(nearest->T.translation().x()) + ", " + fmt(nearest->T.translation().y()) + ", " +
-                      fmt(nearest->T.translation().z()) + "]");
+                      fmt(nearest->T.translation().x()) + ", " + fmt(nearest->T.translation().y()) +
+                      ", " + fmt(nearest->T.translation().z()) + "]");
       best = *nearest;
       r.T_scan_ref = best.T;
       assess(*scan, *ref_tree, matcher, s.trust, voxel, r);
@@ -236,14 +249,16 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
       for (const auto& c : good)
         if (fits_as_well(c.fit, best.fit)) {
           const double along = axis->dot(c.T.translation() - best.T.translation());
-          r.flat_from_mm = std::min(r.flat_from_mm, along), r.flat_to_mm = std::max(r.flat_to_mm, along);
+          r.flat_from_mm = std::min(r.flat_from_mm, along),
+          r.flat_to_mm = std::max(r.flat_to_mm, along);
         }
     const RefineInput in{ref, scan, tree, ref_tree, best.T, voxel, s.refine, s.pre.use_viewpoint};
     if (const auto sl = slide_search(in, matcher, s.trust, r)) {
       const Pose& T = sl->result.T_scan_ref;
       r.log.push_back("slide search: pinned by a refinement started " + fmt(sl->offset_mm) +
-                      " mm along the flat translation: fitness " + fmt(sl->result.fitness_mm2 / (voxel * voxel)) +
-                      " voxel^2, overlap " + fmt(sl->result.overlap) + ", t = [" + fmt(T.translation().x()) + ", " +
+                      " mm along the flat translation: fitness " +
+                      fmt(sl->result.fitness_mm2 / (voxel * voxel)) + " voxel^2, overlap " +
+                      fmt(sl->result.overlap) + ", t = [" + fmt(T.translation().x()) + ", " +
                       fmt(T.translation().y()) + ", " + fmt(T.translation().z()) + "]");
       r.iterations += sl->iterations;
       best = candidate(sl->result);
@@ -260,21 +275,22 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
     // that stopped on a plateau (sliding along a face) is caught here, not reported as ok.
     RefineSettings ps = s.refine;
     ps.robust_loss = "huber";
-    const RefineOutput pol = refine_ceres({ref, scan, tree, ref_tree, best.T, voxel, ps, s.pre.use_viewpoint});
+    const RefineOutput pol =
+        refine_ceres({ref, scan, tree, ref_tree, best.T, voxel, ps, s.pre.use_viewpoint});
     const double dt = (pol.T.translation() - best.T.translation()).norm();
-    const double dr = Eigen::AngleAxisd(pol.T.rotation().transpose() * best.T.rotation()).angle() * 180 / M_PI;
+    const double dr =
+        Eigen::AngleAxisd(pol.T.rotation().transpose() * best.T.rotation()).angle() * 180 / M_PI;
     if (!pol.T.matrix().allFinite() || dt > s.trust.polish_mm || dr > s.trust.polish_deg) {
       r.status = Status::Failed;
-      r.reason = "not at the minimum of the robust point-to-plane fit (polishing moves it " + fmt(dt * 1e3) +
-                 " um, " + fmt(dr) + " deg)";
+      r.reason = "not at the minimum of the robust point-to-plane fit (polishing moves it " +
+                 fmt(dt * 1e3) + " um, " + fmt(dr) + " deg)";
     }
   }
   if (r.status == Status::Ok) {
     // Equally good refined poses (fits_as_well) that disagree: a symmetry or a repeated
     // structure, not a pose.
     for (const auto& c : good)
-      if (!agree(c.T, best.T, *ref, s.trust) &&
-          fits_as_well(c.fit, best.fit)) {
+      if (!agree(c.T, best.T, *ref, s.trust) && fits_as_well(c.fit, best.fit)) {
         r.status = Status::Ambiguous;
         r.reason = "attempts converged to different poses with equal fit (symmetric part?)";
         break;
@@ -292,14 +308,15 @@ RegistrationResult register_cloud(const PointCloud& scan_in, const PointCloud& r
   return r;
 }
 
-PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& T_scan_ref, double radius,
-                     const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
+PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& T_scan_ref,
+                     double radius, const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
   // Copies slid at most one radius apart: their balls overlap, so the crop is one swept tube.
   const int n = radius > 0 ? int(std::ceil((to - from).norm() / radius - 1e-9)) : 0;
   std::vector<Eigen::Vector3f> placed;
   Eigen::AlignedBox3f box;
   for (int k = 0; k <= n; ++k) {
-    const Pose T = Eigen::Translation3d(from + (n ? double(k) / n : 0.0) * (to - from)) * T_scan_ref;
+    const Pose T =
+        Eigen::Translation3d(from + (n ? double(k) / n : 0.0) * (to - from)) * T_scan_ref;
     for (const auto& p : ref.points) {
       if (!p.allFinite()) continue;
       placed.push_back((T * p.cast<double>()).cast<float>());
@@ -313,7 +330,8 @@ PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& 
   std::vector<size_t> at;
   std::vector<Eigen::Vector3f> queries;
   for (size_t i = 0; i < scan.points.size(); ++i)
-    if (scan.points[i].allFinite() && box.contains(scan.points[i])) queries.push_back(scan.points[i]), at.push_back(i);
+    if (scan.points[i].allFinite() && box.contains(scan.points[i]))
+      queries.push_back(scan.points[i]), at.push_back(i);
   // Radius-bounded and batched: most scan points are far from the part, and an unbounded nearest
   // search from them descends much of the tree (the o2ac panel's 1.5 M points against a crop
   // swept 20 mm: an 18-minute registration, taskboard trial 40, then 10 s); one PCL query per
@@ -331,7 +349,8 @@ PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& 
 }
 
 RegistrationResult register_segmented(const PointCloud& scan_in, const PointCloud& ref,
-                                      const RegistrationSettings& s, int max_clusters, int* cluster) {
+                                      const RegistrationSettings& s, int max_clusters,
+                                      int* cluster) {
   if (uses_thin_detector(ref, s)) return detect_thin_part(scan_in, ref, s);  // segments itself
   check_slide_settings(s.trust);
   const auto t0 = std::chrono::steady_clock::now();
@@ -358,20 +377,24 @@ RegistrationResult register_segmented(const PointCloud& scan_in, const PointClou
     size_t n = 0;
     for (const auto& p : ref.points)
       if (p.allFinite()) c += p, ++n;
-    const Eigen::Vector3f at = (*s.prior * (c / float(std::max<size_t>(n, 1))).cast<double>()).cast<float>();
+    const Eigen::Vector3f at =
+        (*s.prior * (c / float(std::max<size_t>(n, 1))).cast<double>()).cast<float>();
     std::vector<float> dist(parts.size(), std::numeric_limits<float>::infinity());
     for (size_t i = 0; i < parts.size(); ++i)
       for (const auto& p : parts[i].points) dist[i] = std::min(dist[i], (p - at).squaredNorm());
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return dist[a] < dist[b]; });
   }
-  const double t_segment = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double t_segment =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   // A part's slide search (slide.cpp) is left to the regrown registration below: it sees every
   // piece of the part, the cluster may have lost what pins it.
   RegistrationSettings each = s;
   each.trust.slide_range_mm = 0;
   RegistrationResult best;
   int best_i = -1;
-  auto rank = [](const RegistrationResult& r) { return r.status == Status::Ok ? 0 : r.status == Status::Ambiguous ? 1 : 2; };
+  auto rank = [](const RegistrationResult& r) {
+    return r.status == Status::Ok ? 0 : r.status == Status::Ambiguous ? 1 : 2;
+  };
   for (int k = 0; k < int(order.size()) && k < max_clusters; ++k) {
     const int i = order[k];
     if (parts[i].points.size() < 10) continue;
@@ -384,7 +407,8 @@ RegistrationResult register_segmented(const PointCloud& scan_in, const PointClou
     }
     // Equal ranks: with a prior the earlier (nearer) part wins — a thread registered onto the
     // needle's shaft fits as well as onto the thread; without one, the lower fitness.
-    if (best_i < 0 || rank(r) < rank(best) || (rank(r) == rank(best) && !s.prior && r.fitness_mm2 < best.fitness_mm2))
+    if (best_i < 0 || rank(r) < rank(best) ||
+        (rank(r) == rank(best) && !s.prior && r.fitness_mm2 < best.fitness_mm2))
       best = std::move(r), best_i = i;
     if (best.status == Status::Ok) break;
   }
@@ -417,11 +441,13 @@ RegistrationResult register_segmented(const PointCloud& scan_in, const PointClou
       g.prior = best.T_scan_ref, g.skip_coarse = flat && best.flat == 1;
       try {
         RegistrationResult r = register_cloud(grown, ref, g);
-        const bool better = rank(r) < rank(best) || (rank(r) == rank(best) && r.unobservable < best.unobservable);
-        best.log.push_back(std::string("regrown around the pose found (flat in ") + std::to_string(best.flat) +
-                           (g.skip_coarse ? ", refined): " : ", registered afresh): ") + status_name(r.status) +
-                           (r.reason.empty() ? "" : " (" + r.reason + ")") + ", " +
-                           std::to_string(r.unobservable) + " unobservable direction(s)" +
+        const bool better =
+            rank(r) < rank(best) || (rank(r) == rank(best) && r.unobservable < best.unobservable);
+        best.log.push_back(std::string("regrown around the pose found (flat in ") +
+                           std::to_string(best.flat) +
+                           (g.skip_coarse ? ", refined): " : ", registered afresh): ") +
+                           status_name(r.status) + (r.reason.empty() ? "" : " (" + r.reason + ")") +
+                           ", " + std::to_string(r.unobservable) + " unobservable direction(s)" +
                            (better ? " -> kept" : " -> not better"));
         if (better) {
           r.log.insert(r.log.begin(), best.log.begin(), best.log.end());
@@ -435,8 +461,8 @@ RegistrationResult register_segmented(const PointCloud& scan_in, const PointClou
   }
   if (cluster) *cluster = best_i;
   best.timings_s["segment"] = t_segment;
-  best.log.push_back("segmentation: " + std::to_string(parts.size()) + " candidate parts, registered part " +
-                     std::to_string(best_i));
+  best.log.push_back("segmentation: " + std::to_string(parts.size()) +
+                     " candidate parts, registered part " + std::to_string(best_i));
   return best;
 }
 

@@ -15,8 +15,9 @@
 
 namespace laserfit::registration {
 
-bool coarse_align_gated(const PclCloud::Ptr& ref, const Features::Ptr& ref_f, const PclCloud::Ptr& scan,
-                        const Features::Ptr& scan_f, const CoarseSettings& s, double voxel, uint64_t seed,
+bool coarse_align_gated(const PclCloud::Ptr& ref, const Features::Ptr& ref_f,
+                        const PclCloud::Ptr& scan, const Features::Ptr& scan_f,
+                        const CoarseSettings& s, double voxel, uint64_t seed,
                         const std::optional<Eigen::Quaterniond>& q0, double rho_rot_deg, Pose& T) {
   if (scan->size() < 3 || ref->size() < 3) return false;
   // k nearest reference features of every scan feature (FLANN, exact kd-tree search).
@@ -27,7 +28,8 @@ bool coarse_align_gated(const PclCloud::Ptr& ref, const Features::Ptr& ref_f, co
   std::vector<int> idx(k);
   std::vector<float> d2(k);
   for (size_t i = 0; i < scan->size(); ++i)
-    if (std::isfinite((*scan_f)[i].histogram[0]) && ftree.nearestKSearch((*scan_f)[i], k, idx, d2) > 0)
+    if (std::isfinite((*scan_f)[i].histogram[0]) &&
+        ftree.nearestKSearch((*scan_f)[i], k, idx, d2) > 0)
       cand[i] = idx;
   Tree rtree;
   rtree.setInputCloud(ref);

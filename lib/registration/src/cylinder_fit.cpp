@@ -36,7 +36,8 @@ struct AxisDistance {
     const V a = (a0.cast<T>() + x[2] * e1.cast<T>() + x[3] * e2.cast<T>()).normalized();
     const V d = p.cast<T>() - c;
     const V perp = d - d.dot(a) * a;
-    r[0] = (sqrt(perp.squaredNorm() + T(1e-18)) - radius[0]) * w;  // the epsilon keeps the Jacobian finite
+    r[0] = (sqrt(perp.squaredNorm() + T(1e-18)) - radius[0]) *
+           w;  // the epsilon keeps the Jacobian finite
     return true;
   }
   Eigen::Vector3d p, c0, a0, e1, e2;
@@ -54,10 +55,13 @@ CylinderFit fit_cylinder(const std::vector<Eigen::Vector3d>& pts, const Eigen::V
   double x[4] = {0, 0, 0, 0}, radius[1] = {radius0};
   ceres::Problem problem;
   for (const auto& p : pts)
-    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<AxisDistance, 1, 4, 1>(new AxisDistance(p, point0, a0, f.e1, f.e2, 1 / o.noise_mm)),
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<AxisDistance, 1, 4, 1>(
+                                 new AxisDistance(p, point0, a0, f.e1, f.e2, 1 / o.noise_mm)),
                              new ceres::HuberLoss(robust_mm / o.noise_mm), x, radius);
   if (o.axis_sigma_rad > 0)
-    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<AxisPrior, 2, 4>(new AxisPrior(o.axis_sigma_rad)), nullptr, x);
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<AxisPrior, 2, 4>(new AxisPrior(o.axis_sigma_rad)), nullptr,
+        x);
   if (o.fix_radius) problem.SetParameterBlockConstant(radius);
   ceres::Solver::Options opt;
   opt.linear_solver_type = ceres::DENSE_QR;
@@ -65,7 +69,8 @@ CylinderFit fit_cylinder(const std::vector<Eigen::Vector3d>& pts, const Eigen::V
   opt.num_threads = 1;  // deterministic, and the problem is tiny
   ceres::Solver::Summary sum;
   ceres::Solve(opt, &problem, &sum);
-  f.converged = sum.termination_type == ceres::CONVERGENCE && std::isfinite(radius[0]) && radius[0] > 0;
+  f.converged =
+      sum.termination_type == ceres::CONVERGENCE && std::isfinite(radius[0]) && radius[0] > 0;
   f.point = point0 + x[0] * f.e1 + x[1] * f.e2;
   f.axis = (a0 + x[2] * f.e1 + x[3] * f.e2).normalized();
   f.radius_mm = radius[0];

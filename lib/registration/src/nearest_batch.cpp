@@ -23,7 +23,8 @@ size_t finite_rows(size_t n, Point point, std::vector<float>& xyz, std::vector<s
 
 size_t finite_rows(const std::vector<Eigen::Vector3f>& pts, std::vector<float>& xyz,
                    std::vector<size_t>& at) {
-  return finite_rows(pts.size(), [&](size_t i) { return pts[i]; }, xyz, at);
+  return finite_rows(
+      pts.size(), [&](size_t i) { return pts[i]; }, xyz, at);
 }
 
 }  // namespace
@@ -46,7 +47,8 @@ const Tree::Direct* Tree::direct() const {
     if (in && !in->empty()) return;  // a subset: PCL's own path maps it
     auto b = std::make_shared<Direct>();
     const auto& cloud = *getInputCloud();
-    if (finite_rows(cloud.size(), [&](size_t i) { return cloud[i].getVector3fMap(); }, b->xyz, b->id)) {
+    if (finite_rows(
+            cloud.size(), [&](size_t i) { return cloud[i].getVector3fMap(); }, b->xyz, b->id)) {
       b->index = std::make_unique<flann::KDTreeSingleIndex<flann::L2_Simple<float>>>(
           flann::Matrix<float>(b->xyz.data(), b->id.size(), 3), flann::KDTreeSingleIndexParams(15));
       b->index->buildIndex();

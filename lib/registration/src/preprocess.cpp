@@ -86,7 +86,8 @@ PclCloud::Ptr sample_and_filter(const PclCloud::Ptr& c, const PreprocessSettings
   return d;
 }
 
-PclCloud::Ptr coarser(const PclCloud::Ptr& fine, double cvox, const PreprocessSettings& s, bool keep_side) {
+PclCloud::Ptr coarser(const PclCloud::Ptr& fine, double cvox, const PreprocessSettings& s,
+                      bool keep_side) {
   // Features need a regular density, not unbiased points: the voxel grid's centroids will do.
   pcl::VoxelGrid<PointT> vg;
   vg.setInputCloud(fine);
@@ -118,7 +119,8 @@ size_t remove_mixed_pixels(PointCloud& c, double factor) {
       const float rr = x + 1 < W ? gap(i, i + 1) : std::numeric_limits<float>::infinity();
       if (std::min(l, rr) > limit) drop.push_back(i);
     }
-  for (size_t i : drop) c.points[i] = Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
+  for (size_t i : drop)
+    c.points[i] = Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
   return drop.size();
 }
 

@@ -68,7 +68,8 @@ RefineOutput refine_ceres(const RefineInput& in) {
   out.T = in.init;
   const double fine = in.s.max_correspondence_vox * in.voxel;
   std::vector<double> scales;  // coarse to fine, halving, from 4x the gate or the initial gate
-  for (double sc = std::max(4.0, in.s.initial_gate_mm / fine); sc > 1.0; sc /= 2) scales.push_back(sc);
+  for (double sc = std::max(4.0, in.s.initial_gate_mm / fine); sc > 1.0; sc /= 2)
+    scales.push_back(sc);
   scales.push_back(1.0);
   for (const double scale : scales) {
     const double gate = scale * fine;
@@ -76,7 +77,8 @@ RefineOutput refine_ceres(const RefineInput& in) {
       ceres::Problem::Options po;
       po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
       ceres::Problem problem(po);
-      std::unique_ptr<ceres::LossFunction> loss(make_loss(in.s.robust_loss, in.s.robust_scale_vox * scale * in.voxel));
+      std::unique_ptr<ceres::LossFunction> loss(
+          make_loss(in.s.robust_loss, in.s.robust_scale_vox * scale * in.voxel));
       double delta[6] = {0, 0, 0, 0, 0, 0};
       const auto M = match(*in.scan, *in.ref_tree, out.T, {gate, in.oriented});
       if (M.size() < 6) break;  // cannot constrain six degrees of freedom
@@ -88,8 +90,9 @@ RefineOutput refine_ceres(const RefineInput& in) {
         problem.AddResidualBlock(new PointToPlane(x.p - c, x.q - c, x.n), loss.get(), delta);
         L2 += (x.q - c).squaredNorm();
       }
-      problem.AddResidualBlock(new Damping(1e-3 * std::sqrt(double(M.size())), std::sqrt(L2 / double(M.size()))),
-                               nullptr, delta);
+      problem.AddResidualBlock(
+          new Damping(1e-3 * std::sqrt(double(M.size())), std::sqrt(L2 / double(M.size()))),
+          nullptr, delta);
       ceres::Solver::Options so;
       so.linear_solver_type = ceres::DENSE_QR;
       so.max_num_iterations = 10;
@@ -98,7 +101,8 @@ RefineOutput refine_ceres(const RefineInput& in) {
       ceres::Solve(so, &problem, &summary);
       const Eigen::Map<const Eigen::Vector3d> w(delta), v(delta + 3);
       Pose step = Pose::Identity();  // x -> exp(w) (x - c) + c + v
-      if (w.norm() > 0) step.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
+      if (w.norm() > 0)
+        step.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
       step.translation() = c - step.linear() * c + v;
       out.T = step * out.T;
       // Largest displacement of a point 10 voxels out: the update is negligible below this.

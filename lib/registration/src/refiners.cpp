@@ -8,7 +8,7 @@ namespace laserfit::registration {
 namespace {
 const std::vector<std::pair<std::string, RefineFn>>& table() {
   static const std::vector<std::pair<std::string, RefineFn>> t = {
-      {"paper", refine_point_to_point},           // Algorithm 1 exactly: PCL's ICP
+      {"paper", refine_point_to_point},  // Algorithm 1 exactly: PCL's ICP
       {"point_to_point", refine_point_to_point},
       {"point_to_plane", refine_point_to_plane},
       {"gicp", refine_gicp},

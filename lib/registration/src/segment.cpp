@@ -8,8 +8,8 @@
 
 namespace laserfit::registration {
 
-std::vector<PointCloud> segment_clusters(const PointCloud& scan, double voxel_mm, double tolerance_mm,
-                                         size_t min_points) {
+std::vector<PointCloud> segment_clusters(const PointCloud& scan, double voxel_mm,
+                                         double tolerance_mm, size_t min_points) {
   PreprocessSettings pre;
   pre.outlier_std = 2.0;
   const PointCloud down = preprocess(scan, pre, voxel_mm);  // normals unused here

@@ -15,7 +15,8 @@ namespace laserfit::registration {
 PclCloud::Ptr sample_and_filter(const PclCloud::Ptr& c, const PreprocessSettings& s, double voxel);
 PclCloud::Ptr with_normals(const PclCloud::Ptr& cloud, const PclCloud::Ptr& surface, double radius,
                            const PreprocessSettings& s, bool keep_side);
-PclCloud::Ptr coarser(const PclCloud::Ptr& fine, double cvox, const PreprocessSettings& s, bool keep_side);
+PclCloud::Ptr coarser(const PclCloud::Ptr& fine, double cvox, const PreprocessSettings& s,
+                      bool keep_side);
 // preprocess() in PCL types (what the stages consume); throws Error when too little is left.
 PclCloud::Ptr prepare(const PointCloud& in, const PreprocessSettings& s, double voxel);
 
@@ -36,20 +37,23 @@ struct Match {
   Eigen::Vector3d p, q, n;  // model point T*m, scan point, model normal R*n_m (scan frame)
 };
 struct Matcher {
-  double gate = 0;          // mm
-  bool oriented = false;    // scan normals face the sensor and reference normals face outwards
+  double gate = 0;        // mm
+  bool oriented = false;  // scan normals face the sensor and reference normals face outwards
 };
-std::vector<Match> match(const PclCloud& scan, const Tree& ref_tree, const Pose& T, const Matcher& m);
+std::vector<Match> match(const PclCloud& scan, const Tree& ref_tree, const Pose& T,
+                         const Matcher& m);
 
 // The same with the orientation gate applied to every hypothesis (coarse_gated.cpp); without q0
 // it is plain RANSAC over FPFH correspondences.
-bool coarse_align_gated(const PclCloud::Ptr& ref, const Features::Ptr& ref_f, const PclCloud::Ptr& scan,
-                        const Features::Ptr& scan_f, const CoarseSettings& s, double voxel, uint64_t seed,
-                        const std::optional<Eigen::Quaterniond>& q0, double rho_rot_deg, Pose& T_scan_ref);
+bool coarse_align_gated(const PclCloud::Ptr& ref, const Features::Ptr& ref_f,
+                        const PclCloud::Ptr& scan, const Features::Ptr& scan_f,
+                        const CoarseSettings& s, double voxel, uint64_t seed,
+                        const std::optional<Eigen::Quaterniond>& q0, double rho_rot_deg,
+                        Pose& T_scan_ref);
 
 // Refinement (Algorithm 1, line 6) with the named variant.
 struct RefineInput {
-  PclCloud::Ptr ref, scan;     // ref: dense CAD samples with their exact normals
+  PclCloud::Ptr ref, scan;  // ref: dense CAD samples with their exact normals
   Tree::Ptr scan_tree, ref_tree;
   Pose init;
   double voxel;
@@ -97,7 +101,8 @@ struct PlaneSystem {
   Eigen::Vector3d c = Eigen::Vector3d::Zero();  // the matched scan points' centroid
   std::vector<Match> matches;
 };
-PlaneSystem plane_system(const PclCloud& scan, const Tree& ref_tree, const Pose& T, const Matcher& m);
+PlaneSystem plane_system(const PclCloud& scan, const Tree& ref_tree, const Pose& T,
+                         const Matcher& m);
 void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const TrustSettings& t,
             double voxel, RegistrationResult& r);
 // An `ok` whose jackknife sigma (set by assess) is above the trust limits -> ambiguous, not
@@ -105,7 +110,7 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
 void check_pinned(const TrustSettings& t, RegistrationResult& r);
 // Block-jackknife covariance of the pose ([rx ry rz (rad, about c), tx ty tz (mm)]) from the
 // matches at the final pose, per_axis^2 blocks (jackknife.cpp); nullopt with too few matches.
-std::optional<Matrix6d> block_jackknife(const std::vector<Match>& M, const Eigen::Vector3d& c, double L,
-                                        int per_axis);
+std::optional<Matrix6d> block_jackknife(const std::vector<Match>& M, const Eigen::Vector3d& c,
+                                        double L, int per_axis);
 
 }  // namespace laserfit::registration

@@ -22,19 +22,20 @@ namespace {
 
 struct Candidate {
   CylinderFit fit;
-  Eigen::Vector3d tip, data_tip;   // axis point at the tip; the seen point furthest along the axis
+  Eigen::Vector3d tip, data_tip;  // axis point at the tip; the seen point furthest along the axis
   double length_mm = 0, spacing_mm = 0, distance_mm = 0;
 };
 
-double segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+double segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                        const Eigen::Vector3d& b) {
   const Eigen::Vector3d ab = b - a;
   const double t = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
   return (p - a - t * ab).norm();
 }
 
 // Centroid, principal direction (oriented along `a0`) and the spread across it (two std-devs).
-void principal_axis(const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3d& a0, Eigen::Vector3d& mean,
-                    Eigen::Vector3d& axis, Eigen::Vector2d& cross) {
+void principal_axis(const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3d& a0,
+                    Eigen::Vector3d& mean, Eigen::Vector3d& axis, Eigen::Vector2d& cross) {
   mean.setZero();
   for (const auto& p : pts) mean += p;
   mean /= double(pts.size());
@@ -94,7 +95,8 @@ std::vector<int> linear_points(const PclCloud& cloud, const ThinSettings& t) {
       const Eigen::Vector3d d = centroids->at(j).getVector3fMap().cast<double>() - m;
       cov += d * d.transpose();
     }
-    const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly).eigenvalues();
+    const Eigen::Vector3d ev =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly).eigenvalues();
     line[k] = ev[1] <= t.max_cross_ratio * t.max_cross_ratio * ev[2];
   }
   std::vector<int> keep;
@@ -111,7 +113,8 @@ std::string assess(const std::vector<Eigen::Vector3d>& all,
   Eigen::Vector3d mean, axis;
   Eigen::Vector2d cross;
   principal_axis(all, a0, mean, axis, cross);
-  if (std::acos(std::min(1.0, axis.dot(a0))) > t.max_axis_deg * M_PI / 180) return "not along the prior's axis";
+  if (std::acos(std::min(1.0, axis.dot(a0))) > t.max_axis_deg * M_PI / 180)
+    return "not along the prior's axis";
   // Only the last fit_length_mm behind the tip: a real thread bends further back.
   double s_max = -INFINITY;
   for (const auto& p : all) s_max = std::max(s_max, axis.dot(p - mean));
@@ -144,16 +147,20 @@ std::string assess(const std::vector<Eigen::Vector3d>& all,
     why << "radius " << f.radius_mm << " mm, reference " << prof.radius_mm;
     return why.str();
   }
-  if (f.rmse_mm > t.max_rmse_mm) return (why << "cylinder residual " << f.rmse_mm * 1e3 << " um", why.str());
-  if (f.inlier_fraction < t.min_inlier_fraction) return (why << "inliers " << f.inlier_fraction, why.str());
-  if (std::acos(std::min(1.0, std::abs(f.axis.dot(a0)))) > t.max_axis_deg * M_PI / 180) return "fitted axis off the prior's";
+  if (f.rmse_mm > t.max_rmse_mm)
+    return (why << "cylinder residual " << f.rmse_mm * 1e3 << " um", why.str());
+  if (f.inlier_fraction < t.min_inlier_fraction)
+    return (why << "inliers " << f.inlier_fraction, why.str());
+  if (std::acos(std::min(1.0, std::abs(f.axis.dot(a0)))) > t.max_axis_deg * M_PI / 180)
+    return "fitted axis off the prior's";
   const Eigen::Vector3d a = f.axis.dot(a0) < 0 ? Eigen::Vector3d(-f.axis) : f.axis;
   std::vector<double> s_ax;
   for (size_t i = 0; i < pts.size(); ++i)
     if (f.inlier[i]) s_ax.push_back(a.dot(pts[i] - f.point));
   std::sort(s_ax.begin(), s_ax.end());
   c.length_mm = s_ax.back() - s_ax.front();
-  if (c.length_mm < t.min_length_mm) return (why << "seen over " << c.length_mm << " mm only", why.str());
+  if (c.length_mm < t.min_length_mm)
+    return (why << "seen over " << c.length_mm << " mm only", why.str());
   // Axial sampling (profiles cross the part at steps along it): the 90th percentile of the gaps.
   std::vector<double> gaps;
   for (size_t i = 1; i < s_ax.size(); ++i) gaps.push_back(s_ax[i] - s_ax[i - 1]);
@@ -230,8 +237,7 @@ ThinProfile thin_profile(const PointCloud& ref, const ThinSettings& s) {
   Eigen::VectorXd b(ref.points.size());
   Eigen::Index n = 0;
   for (const auto& q : ref.points)
-    if (q.allFinite() && q.z() > zmin + 0.1 * (zmax - zmin) && q.z() < zmax - 0.1 * (zmax - zmin))
-    {
+    if (q.allFinite() && q.z() > zmin + 0.1 * (zmax - zmin) && q.z() < zmax - 0.1 * (zmax - zmin)) {
       A.row(n) << q.x(), q.y(), 1;
       b[n++] = -(q.x() * q.x() + q.y() * q.y());
     }
@@ -249,16 +255,19 @@ ThinProfile thin_profile(const PointCloud& ref, const ThinSettings& s) {
 bool uses_thin_detector(const PointCloud& ref, const RegistrationSettings& s) {
   if (s.thin.mode == "on") return true;
   if (s.thin.mode == "off") return false;
-  if (s.thin.mode != "auto") throw Error("thin.mode must be auto, on or off, not '" + s.thin.mode + "'");
+  if (s.thin.mode != "auto")
+    throw Error("thin.mode must be auto, on or off, not '" + s.thin.mode + "'");
   return thin_profile(ref, s.thin).thin;
 }
 
-RegistrationResult detect_thin_part(const PointCloud& scan, const PointCloud& ref, const RegistrationSettings& s) {
+RegistrationResult detect_thin_part(const PointCloud& scan, const PointCloud& ref,
+                                    const RegistrationSettings& s) {
   const auto t0 = std::chrono::steady_clock::now();
   const ThinSettings& t = s.thin;
   const ThinProfile prof = thin_profile(ref, t);
   if (prof.radius_mm <= 0) throw Error("reference cloud has no usable points");
-  if (!s.prior && !s.q0) throw Error("a thin part is detected along its prior axis: give a prior pose or orientation");
+  if (!s.prior && !s.q0)
+    throw Error("a thin part is detected along its prior axis: give a prior pose or orientation");
   const Eigen::Matrix3d R0 = s.prior ? s.prior->rotation() : s.q0->toRotationMatrix();
   const Eigen::Vector3d a0 = R0.col(2);
   // No mixed-pixel filter here: a profile often returns one lone point off the thread, which
@@ -274,7 +283,8 @@ RegistrationResult detect_thin_part(const PointCloud& scan, const PointCloud& re
     near.points.push_back(p);
   }
   if (near.points.size() < size_t(t.min_points))
-    throw Error("scan has no usable points near the thin part's prior (" + std::to_string(near.points.size()) + ")");
+    throw Error("scan has no usable points near the thin part's prior (" +
+                std::to_string(near.points.size()) + ")");
   near.width = int(near.points.size());
   const PclCloud::Ptr all = to_pcl(near);
   const std::vector<int> lin = linear_points(*all, t);
@@ -311,19 +321,22 @@ RegistrationResult detect_thin_part(const PointCloud& scan, const PointCloud& re
   }
   r.attempts = int(found.size());
   std::ostringstream summary;
-  summary << lin.size() << " of " << all->size() << " points near the prior on lines, " << found.size() << " clusters, " << ok.size() << " thin along its axis";
+  summary << lin.size() << " of " << all->size() << " points near the prior on lines, "
+          << found.size() << " clusters, " << ok.size() << " thin along its axis";
   for (const auto& [why, n] : rejected) summary << "; " << n << " " << why;
   r.log.push_back("thin-part detector: " + summary.str());
-  r.timings_s["thin"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.timings_s["thin"] =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (ok.empty() || (!s.prior && ok.size() > 1)) {
     r.status = Status::Failed;
-    r.reason = ok.empty() ? "no thin part found (" + summary.str() + ")"
-                          : std::to_string(ok.size()) + " thin candidates and no prior position to choose";
+    r.reason = ok.empty()
+                   ? "no thin part found (" + summary.str() + ")"
+                   : std::to_string(ok.size()) + " thin candidates and no prior position to choose";
     return r;
   }
-  const Candidate& c = *std::min_element(ok.begin(), ok.end(), [](const Candidate& x, const Candidate& y) {
-    return x.distance_mm < y.distance_mm;
-  });
+  const Candidate& c = *std::min_element(
+      ok.begin(), ok.end(),
+      [](const Candidate& x, const Candidate& y) { return x.distance_mm < y.distance_mm; });
   // Pose: z along the fitted axis, the spin about it kept from the prior (unobservable).
   Eigen::Matrix3d R;
   R.col(2) = c.fit.axis;
@@ -340,8 +353,9 @@ RegistrationResult detect_thin_part(const PointCloud& scan, const PointCloud& re
   r.overlap = std::min(1.0, c.length_mm / prof.length_mm);
   r.covariance = tip_covariance(c);
   std::ostringstream why;
-  why << "thin part: rotation about its own axis unobservable; cylinder r " << c.fit.radius_mm * 1e3 << " um seen over "
-      << c.length_mm << " mm, tip " << c.distance_mm << " mm from the prior, axial sampling " << c.spacing_mm * 1e3 << " um";
+  why << "thin part: rotation about its own axis unobservable; cylinder r " << c.fit.radius_mm * 1e3
+      << " um seen over " << c.length_mm << " mm, tip " << c.distance_mm
+      << " mm from the prior, axial sampling " << c.spacing_mm * 1e3 << " um";
   r.reason = why.str();
   r.log.push_back(r.reason);
   return r;

@@ -39,8 +39,8 @@ double* field(Thresholds& t, const std::string& key, double& iterations) {
   return &t.min_overlap;
 }
 
-double valued(const io::YamlReader& R, const YAML::Node& n, const std::string& where, const std::string& unit,
-              double lo, double hi) {
+double valued(const io::YamlReader& R, const YAML::Node& n, const std::string& where,
+              const std::string& unit, double lo, double hi) {
   R.only(n, where, {"value", "unit"});
   R.need(n, "value", where);
   R.need(n, "unit", where);
@@ -57,7 +57,8 @@ double valued(const io::YamlReader& R, const YAML::Node& n, const std::string& w
 
 }  // namespace
 
-void Thresholds::apply(RegistrationSettings& s, const std::string& object, double fallback_voxel_mm) const {
+void Thresholds::apply(RegistrationSettings& s, const std::string& object,
+                       double fallback_voxel_mm) const {
   const auto v = voxel_mm.find(object);
   const double voxel = v != voxel_mm.end() ? v->second : fallback_voxel_mm;
   s.pre.voxel_mm = voxel > 0 ? voxel * voxel_scale : 0;
@@ -77,11 +78,13 @@ Thresholds load_thresholds(const std::string& path) {
   R.only(root, "thresholds", {"schema", "provenance", "registration", "objects"});
   R.need(root, "schema", "thresholds");
   const std::string schema = R.str(root, "schema", "", "thresholds");
-  if (schema != kSchema) R.fail("schema", "is '" + schema + "', this laserfit reads '" + kSchema + "'");
+  if (schema != kSchema)
+    R.fail("schema", "is '" + schema + "', this laserfit reads '" + kSchema + "'");
   Thresholds t;
   const auto prov = R.need(root, "provenance", "thresholds");
   R.only(prov, "provenance", {"benchmark", "file", "digest", "seed", "train", "test", "held_out"});
-  for (const char* k : {"benchmark", "file", "digest", "seed", "train", "test", "held_out"}) R.need(prov, k, "provenance");
+  for (const char* k : {"benchmark", "file", "digest", "seed", "train", "test", "held_out"})
+    R.need(prov, k, "provenance");
   t.benchmark = R.str(prov, "benchmark", "", "provenance");
   t.benchmark_file = R.str(prov, "file", "", "provenance");
   t.benchmark_digest = R.str(prov, "digest", "", "provenance");
@@ -89,12 +92,19 @@ Thresholds load_thresholds(const std::string& path) {
   t.train = R.str(prov, "train", "", "provenance");
   t.test = R.str(prov, "test", "", "provenance");
   const auto ho = prov["held_out"];
-  R.only(ho, "provenance.held_out", {"registrations", "success_rate", "false_accepts", "median_translation_error"});
-  for (const char* k : {"registrations", "success_rate", "false_accepts", "median_translation_error"}) R.need(ho, k, "provenance.held_out");
-  t.held_out_registrations = int(R.integer(ho, "registrations", 0, "provenance.held_out", 0, 1 << 30));
-  t.held_out_false_accepts = int(R.integer(ho, "false_accepts", 0, "provenance.held_out", 0, 1 << 30));
-  t.held_out_success_rate = valued(R, ho["success_rate"], "provenance.held_out.success_rate", "fraction", 0, 1);
-  t.held_out_median_t_um = valued(R, ho["median_translation_error"], "provenance.held_out.median_translation_error", "um", 0, 1e6);
+  R.only(ho, "provenance.held_out",
+         {"registrations", "success_rate", "false_accepts", "median_translation_error"});
+  for (const char* k :
+       {"registrations", "success_rate", "false_accepts", "median_translation_error"})
+    R.need(ho, k, "provenance.held_out");
+  t.held_out_registrations =
+      int(R.integer(ho, "registrations", 0, "provenance.held_out", 0, 1 << 30));
+  t.held_out_false_accepts =
+      int(R.integer(ho, "false_accepts", 0, "provenance.held_out", 0, 1 << 30));
+  t.held_out_success_rate =
+      valued(R, ho["success_rate"], "provenance.held_out.success_rate", "fraction", 0, 1);
+  t.held_out_median_t_um = valued(R, ho["median_translation_error"],
+                                  "provenance.held_out.median_translation_error", "um", 0, 1e6);
 
   const auto reg = R.need(root, "registration", "thresholds");
   std::set<std::string> keys = {"method"};
@@ -107,8 +117,10 @@ Thresholds load_thresholds(const std::string& path) {
   if (!known) R.fail("registration.method", "unknown method '" + t.method + "'");
   double iterations = 0;
   for (const auto& p : kParams)
-    *field(t, p.key, iterations) = valued(R, reg[p.key], std::string("registration.") + p.key, p.unit, p.lo, p.hi);
-  if (iterations != std::floor(iterations)) R.fail("registration.ransac_iterations", "must be a whole number");
+    *field(t, p.key, iterations) =
+        valued(R, reg[p.key], std::string("registration.") + p.key, p.unit, p.lo, p.hi);
+  if (iterations != std::floor(iterations))
+    R.fail("registration.ransac_iterations", "must be a whole number");
   t.ransac_iterations = int(iterations);
 
   const auto objs = R.need(root, "objects", "thresholds");
@@ -116,7 +128,8 @@ Thresholds load_thresholds(const std::string& path) {
   for (const auto& kv : objs) {
     const std::string name = kv.first.as<std::string>(), where = "objects." + name;
     R.only(kv.second, where, {"voxel"});
-    t.voxel_mm[name] = valued(R, R.need(kv.second, "voxel", where), where + ".voxel", "mm", 1e-4, 10);
+    t.voxel_mm[name] =
+        valued(R, R.need(kv.second, "voxel", where), where + ".voxel", "mm", 1e-4, 10);
   }
   return t;
 }
@@ -127,14 +140,17 @@ std::string thresholds_yaml(const Thresholds& t) {
   auto val = [&](double v, const char* unit) {
     o << "{value: " << v << ", unit: \"" << unit << "\"}\n";
   };
-  o << "# Registration thresholds tuned by `laserfit tune` (read by laserfit register --thresholds\n"
-       "# and laserfit-controller). Every value carries its unit; voxel-relative values scale with\n"
+  o << "# Registration thresholds tuned by `laserfit tune` (read by laserfit register "
+       "--thresholds\n"
+       "# and laserfit-controller). Every value carries its unit; voxel-relative values scale "
+       "with\n"
        "# each object's voxel.\n";
   o << "schema: " << kSchema << "\n";
-  o << "provenance:\n  benchmark: " << t.benchmark << "\n  file: \"" << t.benchmark_file << "\"\n  digest: \""
-    << t.benchmark_digest << "\"\n  seed: " << t.seed << "\n  train: \"" << t.train << "\"\n  test: \"" << t.test
-    << "\"\n  held_out:\n    registrations: " << t.held_out_registrations << "\n    false_accepts: " << t.held_out_false_accepts
-    << "\n    success_rate: ";
+  o << "provenance:\n  benchmark: " << t.benchmark << "\n  file: \"" << t.benchmark_file
+    << "\"\n  digest: \"" << t.benchmark_digest << "\"\n  seed: " << t.seed << "\n  train: \""
+    << t.train << "\"\n  test: \"" << t.test
+    << "\"\n  held_out:\n    registrations: " << t.held_out_registrations
+    << "\n    false_accepts: " << t.held_out_false_accepts << "\n    success_rate: ";
   val(t.held_out_success_rate, "fraction");
   o << "    median_translation_error: ";
   val(t.held_out_median_t_um, "um");
@@ -154,6 +170,8 @@ std::string thresholds_yaml(const Thresholds& t) {
   return o.str();
 }
 
-void write_thresholds(const std::string& path, const Thresholds& t) { write_file_atomic(path, thresholds_yaml(t)); }
+void write_thresholds(const std::string& path, const Thresholds& t) {
+  write_file_atomic(path, thresholds_yaml(t));
+}
 
 }  // namespace laserfit::registration

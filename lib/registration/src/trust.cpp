@@ -10,7 +10,8 @@
 
 namespace laserfit::registration {
 
-std::vector<Match> match(const PclCloud& scan, const Tree& ref_tree, const Pose& T, const Matcher& m) {
+std::vector<Match> match(const PclCloud& scan, const Tree& ref_tree, const Pose& T,
+                         const Matcher& m) {
   std::vector<Match> out;
   out.reserve(scan.size());
   if (!T.matrix().allFinite()) return out;
@@ -46,7 +47,8 @@ Fit evaluate(const PclCloud& scan, const Tree& ref_tree, const Pose& T, const Ma
   return f;
 }
 
-PlaneSystem plane_system(const PclCloud& scan, const Tree& ref_tree, const Pose& T, const Matcher& m) {
+PlaneSystem plane_system(const PclCloud& scan, const Tree& ref_tree, const Pose& T,
+                         const Matcher& m) {
   // Point-to-plane Hessian over the matched scan points, with the reference's (CAD) normals,
   // about the matched points' centroid (so rotation and translation decouple); rotations scaled
   // by the RMS radius L to make the six directions comparable. All in the scan frame.
@@ -82,10 +84,11 @@ bool along(const Dof& dof, const Eigen::Vector3d& axis, double tol_deg) {
   return std::abs(dof.axis.dot(axis.normalized())) > std::cos(tol_deg * M_PI / 180);
 }
 std::ostream& operator<<(std::ostream& o, const Dof& d) {
-  return o << (d.rotation ? "rotation about" : "translation along") << " [" << d.axis.x() << ", " << d.axis.y()
-           << ", " << d.axis.z() << "]";
+  return o << (d.rotation ? "rotation about" : "translation along") << " [" << d.axis.x() << ", "
+           << d.axis.y() << ", " << d.axis.z() << "]";
 }
-bool weakest_along(const RegistrationResult& r, bool rotation, const Eigen::Vector3d& axis, double tol_deg) {
+bool weakest_along(const RegistrationResult& r, bool rotation, const Eigen::Vector3d& axis,
+                   double tol_deg) {
   if (r.status != Status::Ambiguous || r.not_pinned) return false;  // not pinned: it names no DoF
   const Dof dof = dof_of(r.weakest_direction);
   return dof.rotation == rotation && along(dof, axis, tol_deg);
@@ -93,7 +96,8 @@ bool weakest_along(const RegistrationResult& r, bool rotation, const Eigen::Vect
 
 // The weak Hessian direction (ratio below declared_weak_ratio) that is a rotation about / a
 // translation along a declared weak axis, or -1.
-int declared_weak(const Eigen::SelfAdjointEigenSolver<Matrix6d>& es, const Pose& T, const TrustSettings& t) {
+int declared_weak(const Eigen::SelfAdjointEigenSolver<Matrix6d>& es, const Pose& T,
+                  const TrustSettings& t) {
   for (int k = 0; k < 6 && es.eigenvalues()[k] < t.declared_weak_ratio * es.eigenvalues()[5]; ++k) {
     const Dof dof = dof_of(es.eigenvectors().col(k));
     const auto& axis = dof.rotation ? t.weak_rotation : t.weak_translation;
@@ -121,7 +125,8 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
   r.weakest_direction = es.eigenvectors().col(0);
   r.flat = 0, r.unobservable = 0;  // r may have been assessed at another pose before
   r.flat_from_mm = r.flat_to_mm = 0;
-  for (int k = 0; k < 6; ++k) r.flat += es.eigenvalues()[k] < t.ambiguity_ratio * es.eigenvalues()[5];
+  for (int k = 0; k < 6; ++k)
+    r.flat += es.eigenvalues()[k] < t.ambiguity_ratio * es.eigenvalues()[5];
   const double sigma2 = n > 6 ? res2 / (n - 6) : 0.0;
   // Covariance in [rx ry rz (rad, about the reference centroid), tx ty tz (mm)]: undo the scaling.
   Vector6d inv = es.eigenvalues();
@@ -131,7 +136,8 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
   s << 1 / L, 1 / L, 1 / L, 1, 1, 1;
   r.covariance = s.asDiagonal() * cov * s.asDiagonal();
   // Not computed (too few matched points for its blocks): unknown, so infinite; 0 when disabled.
-  r.sigma_origin_mm = r.sigma_rotation_deg = t.jackknife_blocks > 0 ? std::numeric_limits<double>::infinity() : 0;
+  r.sigma_origin_mm = r.sigma_rotation_deg =
+      t.jackknife_blocks > 0 ? std::numeric_limits<double>::infinity() : 0;
   if (const auto cj = block_jackknife(sys.matches, sys.c, L, t.jackknife_blocks)) {
     r.sigma_origin_mm = origin_sigma_mm(*cj, r.T_scan_ref.translation() - sys.c);
     r.sigma_rotation_deg = top_sigma(cj->topLeftCorner<3, 3>()) * 180 / M_PI;
@@ -143,7 +149,8 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
     why << "overlap " << f.overlap << " below " << t.min_overlap;
   } else if (f.rmse_mm > t.max_rmse_vox * voxel) {
     r.status = Status::Failed;
-    why << "inlier RMSE " << f.rmse_mm * 1e3 << " um above " << t.max_rmse_vox * voxel * 1e3 << " um";
+    why << "inlier RMSE " << f.rmse_mm * 1e3 << " um above " << t.max_rmse_vox * voxel * 1e3
+        << " um";
   } else if (es.eigenvalues()[0] < t.ambiguity_ratio * es.eigenvalues()[5]) {
     r.status = Status::Ambiguous;
     r.unobservable = r.flat;
@@ -153,7 +160,8 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
     r.status = Status::Ambiguous;
     r.weakest_direction = es.eigenvectors().col(k);
     r.unobservable = 1;
-    why << "weakly observable " << dof_of(r.weakest_direction) << " (scan frame; declared weak, Hessian ratio "
+    why << "weakly observable " << dof_of(r.weakest_direction)
+        << " (scan frame; declared weak, Hessian ratio "
         << es.eigenvalues()[k] / es.eigenvalues()[5] << " below " << t.declared_weak_ratio << ")";
   } else {
     r.status = Status::Ok;
@@ -163,13 +171,16 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
 
 std::optional<Eigen::Vector3d> named_axis(const std::string& name) {
   if (name.empty()) return std::nullopt;
-  if (name != "x" && name != "y" && name != "z") throw Error("axis '" + name + "': must be x, y or z");
+  if (name != "x" && name != "y" && name != "z")
+    throw Error("axis '" + name + "': must be x, y or z");
   return Eigen::Vector3d::Unit(name[0] - 'x');
 }
 
 double top_sigma(const Eigen::Matrix3d& C) {
-  return C.allFinite() ? std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvalues()[2]))
-                       : std::numeric_limits<double>::infinity();
+  return C.allFinite()
+             ? std::sqrt(std::max(
+                   0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvalues()[2]))
+             : std::numeric_limits<double>::infinity();
 }
 
 double origin_sigma_mm(const Matrix6d& covariance, const Eigen::Vector3d& oc) {
@@ -188,22 +199,26 @@ void check_pinned(const TrustSettings& t, RegistrationResult& r) {
       (t.max_sigma_deg > 0 && r.sigma_rotation_deg > t.max_sigma_deg)) {
     std::ostringstream why;
     if (!std::isfinite(r.sigma_origin_mm) && !std::isfinite(r.sigma_rotation_deg))
-      why << "not pinned: the jackknife could not bound it (fewer than " << 20 * t.jackknife_blocks * t.jackknife_blocks
+      why << "not pinned: the jackknife could not bound it (fewer than "
+          << 20 * t.jackknife_blocks * t.jackknife_blocks
           << " matched points, or one region alone pins a direction)";
     else
-      why << "not pinned: leaving out one region of the scan moves the origin by sigma " << r.sigma_origin_mm * 1e3
-        << " um (limit " << t.max_sigma_mm * 1e3 << "), the rotation by " << r.sigma_rotation_deg << " deg (limit "
-        << t.max_sigma_deg << ")";
+      why << "not pinned: leaving out one region of the scan moves the origin by sigma "
+          << r.sigma_origin_mm * 1e3 << " um (limit " << t.max_sigma_mm * 1e3
+          << "), the rotation by " << r.sigma_rotation_deg << " deg (limit " << t.max_sigma_deg
+          << ")";
     r.status = Status::Ambiguous;
     r.not_pinned = true;
     r.reason = why.str();
   }
 }
 
-bool weakest_is_rotation_about(const RegistrationResult& r, const Eigen::Vector3d& axis, double tol_deg) {
+bool weakest_is_rotation_about(const RegistrationResult& r, const Eigen::Vector3d& axis,
+                               double tol_deg) {
   return weakest_along(r, true, axis, tol_deg);
 }
-bool weakest_is_translation_along(const RegistrationResult& r, const Eigen::Vector3d& axis, double tol_deg) {
+bool weakest_is_translation_along(const RegistrationResult& r, const Eigen::Vector3d& axis,
+                                  double tol_deg) {
   return weakest_along(r, false, axis, tol_deg);
 }
 

@@ -13,19 +13,22 @@ bool has_pose(const RegistrationResult& r) { return r.overlap > 0 && std::isfini
 
 }  // namespace
 
-RegistrationResult register_in_view(const PointCloud& scan, const PointCloud& ref, const ViewSampler& view,
-                                    const RegistrationSettings& s, int max_clusters) {
+RegistrationResult register_in_view(const PointCloud& scan, const PointCloud& ref,
+                                    const ViewSampler& view, const RegistrationSettings& s,
+                                    int max_clusters) {
   RegistrationResult first = register_segmented(scan, ref, s, max_clusters);
   if (!view || uses_thin_detector(ref, s) || !has_pose(first)) return first;
   const auto t0 = std::chrono::steady_clock::now();
   const PointCloud seen = view(first.T_scan_ref);
-  const double t_view = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double t_view =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const auto note = [&](RegistrationResult& r, const std::string& line) {
     r.log.push_back(line);
     r.timings_s["view"] = t_view;
   };
   if (seen.points.size() < 10) {
-    note(first, "view at the pose found: too few points seen (" + std::to_string(seen.points.size()) + ") -> kept");
+    note(first, "view at the pose found: too few points seen (" +
+                    std::to_string(seen.points.size()) + ") -> kept");
     return first;
   }
   // The pose found is the first hypothesis; RANSAC, the rho_rot gate (about the caller's q0, the
@@ -46,10 +49,12 @@ RegistrationResult register_in_view(const PointCloud& scan, const PointCloud& re
   std::vector<std::string> log;
   for (const auto& l : first.log) log.push_back("pass 1: " + l);
   log.push_back(std::string("pass 1: ") + status_name(first.status) +
-                (first.reason.empty() ? "" : " (" + first.reason + ")") + "; reference re-sampled as seen at that pose");
+                (first.reason.empty() ? "" : " (" + first.reason + ")") +
+                "; reference re-sampled as seen at that pose");
   for (const auto& l : second.log) log.push_back("pass 2: " + l);
   log.push_back(std::string("pass 2: ") + status_name(second.status) +
-                (second.reason.empty() ? "" : " (" + second.reason + ")") + (keep_first ? " -> pass 1 kept" : " -> kept"));
+                (second.reason.empty() ? "" : " (" + second.reason + ")") +
+                (keep_first ? " -> pass 1 kept" : " -> kept"));
   std::map<std::string, double> timings = first.timings_s;
   for (const auto& [k, v] : second.timings_s) timings[k] += v;
   out.log = std::move(log), out.timings_s = std::move(timings);

@@ -39,14 +39,17 @@ void write_png(const std::string& path, vtkRenderWindow* window) {
   png->Write();
   vtkUnsignedCharArray* bytes = png->GetResult();
   if (!bytes || bytes->GetNumberOfTuples() == 0) throw Error(path, "VTK produced no image");
-  write_file_atomic(path, std::string(reinterpret_cast<const char*>(bytes->GetPointer(0)), size_t(bytes->GetNumberOfTuples())));
+  write_file_atomic(path, std::string(reinterpret_cast<const char*>(bytes->GetPointer(0)),
+                                      size_t(bytes->GetNumberOfTuples())));
 }
 
-void render_chart(const std::string& path, const std::vector<Series>& series, const ChartSettings& s) {
+void render_chart(const std::string& path, const std::vector<Series>& series,
+                  const ChartSettings& s) {
   if (!have_display()) throw Error(path, "no X display for VTK (run under xvfb-run)");
   // Colour-blind-safe palette (Okabe & Ito 2008).
-  static const unsigned char palette[][3] = {{0, 114, 178}, {230, 159, 0}, {0, 158, 115}, {204, 121, 167},
-                                             {86, 180, 233}, {213, 94, 0}, {240, 228, 66}, {0, 0, 0}};
+  static const unsigned char palette[][3] = {{0, 114, 178},   {230, 159, 0},  {0, 158, 115},
+                                             {204, 121, 167}, {86, 180, 233}, {213, 94, 0},
+                                             {240, 228, 66},  {0, 0, 0}};
   vtkNew<vtkContextView> view;
   view->GetRenderWindow()->SetOffScreenRendering(1);
   view->GetRenderWindow()->SetSize(s.width, s.height);

@@ -19,8 +19,9 @@
 
 namespace laserfit::report {
 
-void render_overlay(const std::string& path, const PointCloud& cloud, const Eigen::Vector3d& viewpoint,
-                    const std::string& title, int width, int height) {
+void render_overlay(const std::string& path, const PointCloud& cloud,
+                    const Eigen::Vector3d& viewpoint, const std::string& title, int width,
+                    int height) {
   if (!have_display()) throw Error(path, "no X display for VTK (run under xvfb-run)");
   vtkNew<vtkPoints> pts;
   vtkNew<vtkCellArray> verts;
@@ -70,7 +71,8 @@ void render_overlay(const std::string& path, const PointCloud& cloud, const Eige
   cam->SetFocalPoint(centre.data());
   cam->SetPosition(viewpoint.data());
   Eigen::Vector3d dir = (centre - viewpoint).normalized();
-  Eigen::Vector3d up = std::abs(dir.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
+  Eigen::Vector3d up =
+      std::abs(dir.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
   cam->SetViewUp(up.data());
   ren->ResetCamera();
   cam->Zoom(1.3);

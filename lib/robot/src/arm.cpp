@@ -21,8 +21,13 @@ ArmModel ArmModel::panda() {
   m.name = "franka_panda";
   const double h = M_PI / 2;
   // a (mm), d (mm), alpha (rad): the official modified-DH table; flange d = 107 mm.
-  m.joints = {{{0, 333, 0, 0}, {0, 0, -h, 0}, {0, 316, h, 0}, {82.5, 0, h, 0}, {-82.5, 384, -h, 0},
-               {0, 0, h, 0}, {88, 0, h, 0}}};
+  m.joints = {{{0, 333, 0, 0},
+               {0, 0, -h, 0},
+               {0, 316, h, 0},
+               {82.5, 0, h, 0},
+               {-82.5, 384, -h, 0},
+               {0, 0, h, 0},
+               {88, 0, h, 0}}};
   m.flange = {0, 107, 0, 0};
   auto& L = m.limits;
   L.q_min << -2.8973, -1.7628, -2.8973, -3.0718, -2.8973, -0.0175, -2.8973;
@@ -59,7 +64,9 @@ Jacobian ArmModel::jacobian(const Joints& q) const {
 }
 
 bool ArmModel::within_limits(const Joints& q, double margin) const {
-  return ((q.array() >= limits.q_min.array() + margin) && (q.array() <= limits.q_max.array() - margin)).all();
+  return ((q.array() >= limits.q_min.array() + margin) &&
+          (q.array() <= limits.q_max.array() - margin))
+      .all();
 }
 
 }  // namespace laserfit::robot

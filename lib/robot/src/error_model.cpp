@@ -13,7 +13,8 @@ void ErrorModelSettings::validate() const {
     throw Error("error model: link length errors need 0 <= min <= max < 100 mm");
   if (!(angle_min_mrad >= 0 && angle_max_mrad >= angle_min_mrad && angle_max_mrad < 200))
     throw Error("error model: angle errors need 0 <= min <= max < 200 mrad");
-  if (!(repeatability_mm >= 0 && repeatability_mm < 10 && repeatability_mrad >= 0 && repeatability_mrad < 100))
+  if (!(repeatability_mm >= 0 && repeatability_mm < 10 && repeatability_mrad >= 0 &&
+        repeatability_mrad < 100))
     throw Error("error model: repeatability must be in 0..10 mm and 0..100 mrad");
   if (!(repeatability_corr_mm >= 0 && repeatability_corr_mm < 1000))
     throw Error("error model: repeatability correlation length must be in 0..1000 mm");

@@ -18,7 +18,8 @@ Vector6d pose_error(const Pose& current, const Pose& target) {
 
 }  // namespace
 
-IkResult solve_ik(const ArmModel& arm, const Pose& target, const Joints& q_start, const IkSettings& s) {
+IkResult solve_ik(const ArmModel& arm, const Pose& target, const Joints& q_start,
+                  const IkSettings& s) {
   IkResult r;
   Joints q = q_start;
   // Rotations are weighed as displacements at 100 mm so that mm and rad are commensurate.
@@ -38,13 +39,15 @@ IkResult solve_ik(const ArmModel& arm, const Pose& target, const Joints& q_start
     const Jacobian J = w.asDiagonal() * arm.jacobian(q);
     const Eigen::Matrix<double, 6, 6> JJt =
         J * J.transpose() + s.damping * s.damping * Eigen::Matrix<double, 6, 6>::Identity();
-    const Eigen::Matrix<double, 7, 6> Jpinv = J.transpose() * JJt.ldlt().solve(Eigen::Matrix<double, 6, 6>::Identity());
+    const Eigen::Matrix<double, 7, 6> Jpinv =
+        J.transpose() * JJt.ldlt().solve(Eigen::Matrix<double, 6, 6>::Identity());
     Joints dq = Jpinv * (w.asDiagonal() * e);
     if (settling) {
       const Eigen::Matrix<double, 7, 7> N = Eigen::Matrix<double, 7, 7>::Identity() - Jpinv * J;
       const Joints null_step = N * (s.nullspace_gain * (s.q_ref - q));
       dq += null_step;
-      settling = !(null_step.norm() < 1e-6 && r.error_mm < 1e-3) && r.iterations < s.max_iterations / 2;
+      settling =
+          !(null_step.norm() < 1e-6 && r.error_mm < 1e-3) && r.iterations < s.max_iterations / 2;
     }
     const double big = dq.cwiseAbs().maxCoeff();
     if (big > s.max_step_rad) dq *= s.max_step_rad / big;

@@ -12,8 +12,8 @@ double min_jerk(double x) { return x * x * x * (10 + x * (-15 + 6 * x)); }
 
 }  // namespace
 
-MotionResult move_cartesian(const ArmModel& arm, const Joints& q_start, const Pose& goal, const Joints& q_ref,
-                            const MotionSettings& s) {
+MotionResult move_cartesian(const ArmModel& arm, const Joints& q_start, const Pose& goal,
+                            const Joints& q_ref, const MotionSettings& s) {
   MotionResult r;
   Joints q = q_start;
   const Pose start = arm.fk(q_start);
@@ -37,8 +37,10 @@ MotionResult move_cartesian(const ArmModel& arm, const Joints& q_start, const Po
     const Eigen::AngleAxisd aa(ref.linear() * cur.linear().transpose());
     e.tail<3>() = aa.axis() * aa.angle();
     const Jacobian J = w.asDiagonal() * arm.jacobian(q);
-    const Eigen::Matrix<double, 6, 6> JJt = J * J.transpose() + s.damping * s.damping * Eigen::Matrix<double, 6, 6>::Identity();
-    const Eigen::Matrix<double, 7, 6> Jp = J.transpose() * JJt.ldlt().solve(Eigen::Matrix<double, 6, 6>::Identity());
+    const Eigen::Matrix<double, 6, 6> JJt =
+        J * J.transpose() + s.damping * s.damping * Eigen::Matrix<double, 6, 6>::Identity();
+    const Eigen::Matrix<double, 7, 6> Jp =
+        J.transpose() * JJt.ldlt().solve(Eigen::Matrix<double, 6, 6>::Identity());
     const Eigen::Matrix<double, 7, 7> N = Eigen::Matrix<double, 7, 7>::Identity() - Jp * J;
     // The path error is closed within one cycle; the null-space pull acts at its finite rate.
     Joints dq = Jp * (w.asDiagonal() * e) + N * (s.nullspace_gain * dt * (q_ref - q));
@@ -57,7 +59,8 @@ MotionResult move_cartesian(const ArmModel& arm, const Joints& q_start, const Po
   r.q = q;
   r.duration_s = n_total * dt;
   r.nominal_error_mm = (end.translation() - goal.translation()).norm();
-  r.reached = r.nominal_error_mm < 1e-3 && Eigen::AngleAxisd(end.linear().transpose() * goal.linear()).angle() < 1e-5;
+  r.reached = r.nominal_error_mm < 1e-3 &&
+              Eigen::AngleAxisd(end.linear().transpose() * goal.linear()).angle() < 1e-5;
   return r;
 }
 

@@ -36,8 +36,8 @@ class Grid {
     return (p / cell_).array().floor().cast<int>();
   }
   static uint64_t pack(const Eigen::Vector3i& c) {
-    return (uint64_t(uint32_t(c.x()) & 0x1FFFFF) << 42) | (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) |
-           uint64_t(uint32_t(c.z()) & 0x1FFFFF);
+    return (uint64_t(uint32_t(c.x()) & 0x1FFFFF) << 42) |
+           (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) | uint64_t(uint32_t(c.z()) & 0x1FFFFF);
   }
   uint64_t key(const Eigen::Vector3f& p) const { return pack(coord(p)); }
   const std::vector<Eigen::Vector3f>& pts_;
@@ -50,7 +50,8 @@ class WeightHeap {
  public:
   explicit WeightHeap(std::vector<double>& w) : w_(w), pos_(w.size()) {
     heap_.resize(w.size());
-    for (size_t i = 0; i < w.size(); ++i) heap_[i] = static_cast<int>(i), pos_[i] = static_cast<int>(i);
+    for (size_t i = 0; i < w.size(); ++i)
+      heap_[i] = static_cast<int>(i), pos_[i] = static_cast<int>(i);
     for (int i = static_cast<int>(heap_.size()) / 2 - 1; i >= 0; --i) down(i);
   }
   int pop() {

@@ -15,7 +15,8 @@ SurfaceSamples uniform_candidates(const TriMesh& mesh, size_t n, uint64_t seed,
   // Cumulative face areas in double: 100k faces of very different size stay exact enough.
   std::vector<double> cdf(mesh.faces.size());
   double total = 0.0;
-  for (size_t f = 0; f < mesh.faces.size(); ++f) cdf[f] = total += mesh.face_area(static_cast<int>(f));
+  for (size_t f = 0; f < mesh.faces.size(); ++f)
+    cdf[f] = total += mesh.face_area(static_cast<int>(f));
   if (!(total > 0.0)) throw Error("cannot sample a mesh of zero area");
 
   SurfaceSamples out;

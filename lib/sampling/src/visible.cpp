@@ -53,7 +53,8 @@ PointCloud sample_visible(const TriMesh& mesh, const ViewSettings& v, const Samp
     const size_t want = poisson ? candidate_count(s.count, over) : s.count;
     const size_t batch_blocks = std::max<size_t>(16, (want + kBlock - 1) / kBlock);
     for (uint64_t first = 0; visible.points.size() < want; first += batch_blocks) {
-      auto got = keep_visible(uniform_candidates(mesh, batch_blocks * kBlock, s.seed, first), scene, views);
+      auto got = keep_visible(uniform_candidates(mesh, batch_blocks * kBlock, s.seed, first), scene,
+                              views);
       drawn += batch_blocks * kBlock;
       visible.points.insert(visible.points.end(), got.points.begin(), got.points.end());
       visible.normals.insert(visible.normals.end(), got.normals.begin(), got.normals.end());
@@ -63,7 +64,8 @@ PointCloud sample_visible(const TriMesh& mesh, const ViewSettings& v, const Samp
       std::ostringstream m;
       m << "only " << visible.points.size() << " of " << drawn
         << " surface samples are visible from the viewpoint(s); check the view poses (the part "
-           "must lie " << v.geometry.z_min_mm << ".." << v.geometry.z_max_mm << " mm in front of the sensor)";
+           "must lie "
+        << v.geometry.z_min_mm << ".." << v.geometry.z_max_mm << " mm in front of the sensor)";
       throw Error(m.str());
     }
     visible_fraction = double(visible.points.size()) / double(drawn);
@@ -77,7 +79,8 @@ PointCloud sample_visible(const TriMesh& mesh, const ViewSettings& v, const Samp
   }
   const double visible_area = area * visible_fraction;
   if (poisson) {
-    const size_t target = s.count > 0 ? s.count : std::max<size_t>(1, size_t(visible.points.size() / over));
+    const size_t target =
+        s.count > 0 ? s.count : std::max<size_t>(1, size_t(visible.points.size() / over));
     visible = eliminate_to(visible, target, visible_area);
   }
   PointCloud c = to_cloud(std::move(visible), poisson ? "poisson_disk" : "uniform", s);

@@ -17,8 +17,9 @@ void along_ray(Sample& s, double d) {
 
 }  // namespace
 
-void apply_noise(std::vector<Sample>& p, const NoiseSettings& n, const sensor::LineScannerGeometry& g,
-                 double bias_mm, std::mt19937_64& rng, ScanStats& stats) {
+void apply_noise(std::vector<Sample>& p, const NoiseSettings& n,
+                 const sensor::LineScannerGeometry& g, double bias_mm, std::mt19937_64& rng,
+                 ScanStats& stats) {
   const size_t m = p.size();
   // Mixed pixels: the spot straddles a depth edge and the peak lands in between.
   if (n.mixed_pixel_prob > 0)
@@ -35,7 +36,8 @@ void apply_noise(std::vector<Sample>& p, const NoiseSettings& n, const sensor::L
   // Speckle: AR(1) along the profile with the configured correlation length. Drawn only where
   // there is a measurement; across a gap of k columns the exact AR(1) step is rho^k.
   NormalSource normal(rng);
-  const double rho = n.speckle_corr_um > 0 ? std::exp(-g.pitch_mid_mm() / (n.speckle_corr_um * kUm)) : 0.0;
+  const double rho =
+      n.speckle_corr_um > 0 ? std::exp(-g.pitch_mid_mm() / (n.speckle_corr_um * kUm)) : 0.0;
   const double s_sp = n.speckle_sigma_um * kUm;
   double speckle = 0.0, decay = 0.0;  // decay = rho^(columns since the last draw); 0: fresh start
   const double cos_graze = std::cos(n.grazing_start_deg * M_PI / 180.0);
@@ -47,7 +49,8 @@ void apply_noise(std::vector<Sample>& p, const NoiseSettings& n, const sensor::L
     decay = 1.0;
     // Dropouts: a base rate plus a ramp to certainty between grazing_start and max incidence.
     double p_drop = n.dropout_rate;
-    if (s.cos_incidence < cos_graze) p_drop += (cos_graze - s.cos_incidence) / (cos_graze - cos_max);
+    if (s.cos_incidence < cos_graze)
+      p_drop += (cos_graze - s.cos_incidence) / (cos_graze - cos_max);
     if (uniform01(rng) < p_drop) {
       s.valid = false;
       ++stats.dropouts;

@@ -10,8 +10,8 @@ namespace laserfit::scan {
 // One column of a profile before noise: the true measurement in the (true) sensor frame.
 struct Sample {
   bool valid = false;
-  double x = 0, z = 0;     // mm, sensor frame (laser plane y = 0)
-  double ux = 0, uz = 1;   // unit direction of the laser ray (sensor frame)
+  double x = 0, z = 0;    // mm, sensor frame (laser plane y = 0)
+  double ux = 0, uz = 1;  // unit direction of the laser ray (sensor frame)
   double cos_incidence = 1;
   bool shiny = false;
 };

@@ -10,8 +10,8 @@ Pose mid_sweep(const ScanSettings& s) {
   return s.sweep.T_base_sensor_start * step;
 }
 
-PointCloud view_reference(const TriMesh& mesh, const Pose& T_base_object, const ScanSettings& s, size_t count,
-                          uint64_t seed) {
+PointCloud view_reference(const TriMesh& mesh, const Pose& T_base_object, const ScanSettings& s,
+                          size_t count, uint64_t seed) {
   sampling::ViewSettings v;
   v.T_mesh_sensor.push_back(T_base_object.inverse() * mid_sweep(s));
   v.geometry = s.sensor;

@@ -46,7 +46,8 @@ std::vector<Pose> motion_jitter(const MotionSettings& m, int profiles, std::mt19
 }
 
 struct Atomics {
-  std::atomic<size_t> rays{0}, hits{0}, valid{0}, range{0}, grazing{0}, camera{0}, drop{0}, out{0}, mixed{0};
+  std::atomic<size_t> rays{0}, hits{0}, valid{0}, range{0}, grazing{0}, camera{0}, drop{0}, out{0},
+      mixed{0};
   std::atomic<int64_t> laser_ns{0}, camera_ns{0}, noise_ns{0};
 };
 
@@ -124,13 +125,22 @@ ScanResult simulate_scan(const ScanScene& sc) {
       if (!h.valid()) continue;
       ++n_hits;
       const double z = h.t * ray_dir[j].z();
-      if (z < g.z_min_mm || z > g.z_max_mm) { ++n_range; continue; }
+      if (z < g.z_min_mm || z > g.z_max_mm) {
+        ++n_range;
+        continue;
+      }
       const double cos_inc = -h.normal.dot(dirs[j]);
-      if (cos_inc < view.cos_max_incidence()) { ++n_graze; continue; }
+      if (cos_inc < view.cos_max_incidence()) {
+        ++n_graze;
+        continue;
+      }
       const Eigen::Vector3f p = origin + h.t * dirs[j];
-      if (!view.camera_angle_ok(p, h.normal, camera)) { ++n_cam; continue; }
-      prof[j] = {true, h.t * ray_dir[j].x(), z, ray_dir[j].x(), ray_dir[j].z(), cos_inc,
-                 sc.objects[h.geom].shiny};
+      if (!view.camera_angle_ok(p, h.normal, camera)) {
+        ++n_cam;
+        continue;
+      }
+      prof[j] = {true,    h.t * ray_dir[j].x(),    z, ray_dir[j].x(), ray_dir[j].z(),
+                 cos_inc, sc.objects[h.geom].shiny};
       label[j] = h.geom;
       from[j] = p + sensor::kSelfShadowEps_mm * h.normal;
       to[j] = camera;

@@ -19,20 +19,25 @@ using Reader = io::YamlReader;
 
 void read_sensor(const Reader& R, const YAML::Node& n, sensor::LineScannerGeometry& g) {
   double ppp = g.points_per_profile;
-  R.numbers(n, "sensor", {{"points_per_profile", &ppp}, {"z_min_mm", &g.z_min_mm},
-                          {"z_max_mm", &g.z_max_mm}, {"width_mid_mm", &g.width_mid_mm},
-                          {"triangulation_angle_deg", &g.triangulation_angle_deg},
-                          {"max_incidence_deg", &g.max_incidence_deg},
-                          {"max_camera_angle_deg", &g.max_camera_angle_deg}});
+  R.numbers(n, "sensor",
+            {{"points_per_profile", &ppp},
+             {"z_min_mm", &g.z_min_mm},
+             {"z_max_mm", &g.z_max_mm},
+             {"width_mid_mm", &g.width_mid_mm},
+             {"triangulation_angle_deg", &g.triangulation_angle_deg},
+             {"max_incidence_deg", &g.max_incidence_deg},
+             {"max_camera_angle_deg", &g.max_camera_angle_deg}});
   if (ppp != std::floor(ppp) || ppp < 2 || ppp > 65536)
     R.fail("sensor.points_per_profile", "must be an integer in 2..65536");
   g.points_per_profile = static_cast<int>(ppp);
 }
 
 void read_sweep(const Reader& R, const YAML::Node& n, SweepSettings& s) {
-  R.only(n, "sweep", {"start", "center", "direction", "length_mm", "speed_mm_s", "profile_rate_hz"});
+  R.only(n, "sweep",
+         {"start", "center", "direction", "length_mm", "speed_mm_s", "profile_rate_hz"});
   if (!!n["start"] == !!n["center"])
-    R.fail("sweep", "give either 'start' (sensor pose at the first profile) or 'center' (at mid-sweep)");
+    R.fail("sweep",
+           "give either 'start' (sensor pose at the first profile) or 'center' (at mid-sweep)");
   const YAML::Node p = n["start"] ? n["start"] : n["center"];
   const std::string where = n["start"] ? "sweep.start" : "sweep.center";
   if (p.IsMap()) {  // {look_from: [x,y,z], look_at: [x,y,z], line: [x,y,z]} instead of a pose
@@ -67,26 +72,35 @@ void read_sweep(const Reader& R, const YAML::Node& n, SweepSettings& s) {
 
 void read_noise(const Reader& R, const YAML::Node& n, NoiseSettings& s) {
   R.numbers(n, "noise",
-            {{"depth_sigma_um", &s.depth_sigma_um}, {"x_jitter_um", &s.x_jitter_um},
-             {"z_quantum_um", &s.z_quantum_um}, {"speckle_sigma_um", &s.speckle_sigma_um},
-             {"speckle_corr_um", &s.speckle_corr_um}, {"dropout_rate", &s.dropout_rate},
-             {"grazing_start_deg", &s.grazing_start_deg}, {"mixed_pixel_prob", &s.mixed_pixel_prob},
-             {"mixed_pixel_jump_mm", &s.mixed_pixel_jump_mm}, {"outlier_rate", &s.outlier_rate},
-             {"outlier_max_mm", &s.outlier_max_mm}, {"bias_sigma_um", &s.bias_sigma_um}},
+            {{"depth_sigma_um", &s.depth_sigma_um},
+             {"x_jitter_um", &s.x_jitter_um},
+             {"z_quantum_um", &s.z_quantum_um},
+             {"speckle_sigma_um", &s.speckle_sigma_um},
+             {"speckle_corr_um", &s.speckle_corr_um},
+             {"dropout_rate", &s.dropout_rate},
+             {"grazing_start_deg", &s.grazing_start_deg},
+             {"mixed_pixel_prob", &s.mixed_pixel_prob},
+             {"mixed_pixel_jump_mm", &s.mixed_pixel_jump_mm},
+             {"outlier_rate", &s.outlier_rate},
+             {"outlier_max_mm", &s.outlier_max_mm},
+             {"bias_sigma_um", &s.bias_sigma_um}},
             {"enabled"});
   s.enabled = R.flag(n, "enabled", s.enabled, "noise");
 }
 
 void read_motion(const Reader& R, const YAML::Node& n, MotionSettings& s) {
   R.numbers(n, "motion",
-            {{"offset_sigma_mm", &s.offset_sigma_mm}, {"offset_sigma_deg", &s.offset_sigma_deg},
-             {"jitter_sigma_mm", &s.jitter_sigma_mm}, {"jitter_sigma_deg", &s.jitter_sigma_deg},
+            {{"offset_sigma_mm", &s.offset_sigma_mm},
+             {"offset_sigma_deg", &s.offset_sigma_deg},
+             {"jitter_sigma_mm", &s.jitter_sigma_mm},
+             {"jitter_sigma_deg", &s.jitter_sigma_deg},
              {"jitter_corr_profiles", &s.jitter_corr_profiles}},
             {"enabled", "calibration_error"});
   s.enabled = R.flag(n, "enabled", s.enabled, "motion");
   if (n["calibration_error"]) {
     const auto c = R.list(n["calibration_error"], "motion.calibration_error");
-    if (c.size() != 6) R.fail("motion.calibration_error", "expected [x, y, z (mm), rx, ry, rz (deg)]");
+    if (c.size() != 6)
+      R.fail("motion.calibration_error", "expected [x, y, z (mm), rx, ry, rz (deg)]");
     std::copy(c.begin(), c.end(), s.calibration_error.begin());
   }
 }
@@ -134,7 +148,8 @@ ScanScene load_scene(const std::string& path) {
     const fs::path mesh = fs::path(path).parent_path() / o.mesh_path;
     if (!fs::exists(mesh)) R.fail(where + ".mesh", "no such mesh file '" + mesh.string() + "'");
     auto it = cache.find(mesh.string());
-    if (it == cache.end()) it = cache.emplace(mesh.string(), cad::import_cad(mesh.string()).mesh).first;
+    if (it == cache.end())
+      it = cache.emplace(mesh.string(), cad::import_cad(mesh.string()).mesh).first;
     o.mesh = it->second;
     sc.objects.push_back(std::move(o));
   }

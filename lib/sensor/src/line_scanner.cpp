@@ -14,12 +14,16 @@ double LineScannerGeometry::baseline_mm() const {
 
 void LineScannerGeometry::validate(const std::string& what) const {
   auto bad = [&](const std::string& m) { throw Error(what, "sensor: " + m); };
-  if (points_per_profile < 2 || points_per_profile > 1 << 16) bad("points_per_profile must be 2..65536");
+  if (points_per_profile < 2 || points_per_profile > 1 << 16)
+    bad("points_per_profile must be 2..65536");
   if (!(z_min_mm > 0) || !(z_max_mm > z_min_mm)) bad("need 0 < z_min_mm < z_max_mm");
   if (!(width_mid_mm > 0)) bad("width_mid_mm must be positive");
-  if (!(triangulation_angle_deg > 0 && triangulation_angle_deg < 80)) bad("triangulation_angle_deg must be in (0, 80)");
-  if (!(max_incidence_deg > 0 && max_incidence_deg <= 90)) bad("max_incidence_deg must be in (0, 90]");
-  if (!(max_camera_angle_deg > 0 && max_camera_angle_deg <= 90)) bad("max_camera_angle_deg must be in (0, 90]");
+  if (!(triangulation_angle_deg > 0 && triangulation_angle_deg < 80))
+    bad("triangulation_angle_deg must be in (0, 80)");
+  if (!(max_incidence_deg > 0 && max_incidence_deg <= 90))
+    bad("max_incidence_deg must be in (0, 90]");
+  if (!(max_camera_angle_deg > 0 && max_camera_angle_deg <= 90))
+    bad("max_camera_angle_deg must be in (0, 90]");
 }
 
 Eigen::Vector3d LineScannerGeometry::ray_direction(int j) const {
@@ -30,12 +34,18 @@ Eigen::Vector3d LineScannerGeometry::ray_direction(int j) const {
 
 const char* visibility_name(Visibility v) {
   switch (v) {
-    case Visibility::Visible: return "visible";
-    case Visibility::OutOfRange: return "out_of_range";
-    case Visibility::OutsideFan: return "outside_fan";
-    case Visibility::Grazing: return "grazing";
-    case Visibility::LaserShadow: return "laser_shadow";
-    case Visibility::CameraShadow: return "camera_shadow";
+    case Visibility::Visible:
+      return "visible";
+    case Visibility::OutOfRange:
+      return "out_of_range";
+    case Visibility::OutsideFan:
+      return "outside_fan";
+    case Visibility::Grazing:
+      return "grazing";
+    case Visibility::LaserShadow:
+      return "laser_shadow";
+    case Visibility::CameraShadow:
+      return "camera_shadow";
   }
   return "?";
 }

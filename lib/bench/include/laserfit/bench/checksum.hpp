@@ -8,6 +8,6 @@ namespace laserfit::bench {
 
 uint32_t crc32(const std::string& bytes);
 uint32_t crc32_file(const std::string& path);  // throws laserfit::Error naming it if unreadable
-std::string hex32(uint32_t v);                  // 8 lowercase hex digits
+std::string hex32(uint32_t v);                 // 8 lowercase hex digits
 
 }  // namespace laserfit::bench

@@ -17,7 +17,8 @@ struct DatasetSummary {
 
 // `repetitions`: only these repetitions of every cell; `scenes`: only these scenes (empty: all).
 DatasetSummary generate_dataset(const Benchmark& b, const std::string& dir, int jobs = 1,
-                                const std::vector<int>& repetitions = {}, const std::vector<std::string>& scenes = {});
+                                const std::vector<int>& repetitions = {},
+                                const std::vector<std::string>& scenes = {});
 
 // Re-reads every file of a dataset and compares it with its manifest; throws laserfit::Error
 // naming the first file that differs or is missing.

@@ -9,8 +9,8 @@ namespace laserfit::bench {
 
 class MemoryProbe {
  public:
-  MemoryProbe();                    // resets the high-water mark if exclusive() allows
-  double peak_mb() const;           // VmHWM now, MiB (0 when /proc is unavailable)
+  MemoryProbe();           // resets the high-water mark if exclusive() allows
+  double peak_mb() const;  // VmHWM now, MiB (0 when /proc is unavailable)
   const char* scope() const { return reset_ ? "trial" : "process"; }
   static void set_exclusive(bool one_job);  // the runner says whether work runs one at a time
 

@@ -14,16 +14,16 @@
 namespace laserfit::bench {
 
 struct RunSettings {
-  std::vector<std::string> methods;     // empty: the benchmark's own list
+  std::vector<std::string> methods;  // empty: the benchmark's own list
   Shard shard;
-  std::string out_dir;                  // results.jsonl, summary.csv, run.json, overlays/
-  std::string dataset_dir;              // non-empty: read scans from a generated dataset
-  std::string thresholds_file;          // non-empty: tuned thresholds on top of each method
-  int jobs = 1;                         // trials in parallel (1: per-trial peak memory)
-  std::vector<int> only_repetitions;    // non-empty: only these repetitions (tuning splits)
-  std::vector<std::string> only_scenes; // non-empty: only these scenes (by name)
-  bool overlays = true;                 // first trial of each scene: overlay clouds
-  bool progress = true;                 // progress on stderr (a bar on a terminal)
+  std::string out_dir;                   // results.jsonl, summary.csv, run.json, overlays/
+  std::string dataset_dir;               // non-empty: read scans from a generated dataset
+  std::string thresholds_file;           // non-empty: tuned thresholds on top of each method
+  int jobs = 1;                          // trials in parallel (1: per-trial peak memory)
+  std::vector<int> only_repetitions;     // non-empty: only these repetitions (tuning splits)
+  std::vector<std::string> only_scenes;  // non-empty: only these scenes (by name)
+  bool overlays = true;                  // first trial of each scene: overlay clouds
+  bool progress = true;                  // progress on stderr (a bar on a terminal)
 };
 
 struct RunSummary {
@@ -39,7 +39,8 @@ RunSummary merge_runs(const std::vector<std::string>& dirs, const std::string& o
 
 // results.jsonl <-> records; records sorted by (trial, object order, method order) as written.
 std::vector<io::Json> read_results(const std::string& path);
-void write_results(const std::string& dir, const std::vector<io::Json>& records, const io::Json& run);
+void write_results(const std::string& dir, const std::vector<io::Json>& records,
+                   const io::Json& run);
 
 // The figures of a group of records: success, false accepts, ambiguous and failed counts, the
 // errors of the poses returned (status not failed, a pose expected), time and peak memory.
@@ -51,14 +52,16 @@ inline const long kMinVisiblePoints = registration::ThinSettings{}.min_points;
 // and the target in view: with the target absent, that refinement holds still on whatever lies
 // near the truth (a needle's eye next to a thread tip the sweep missed) and passes for an
 // answer. visible_points < 0: a scan without labels; no "determinable": an older run's record.
-inline bool in_view(long visible_points) { return visible_points < 0 || visible_points >= kMinVisiblePoints; }
+inline bool in_view(long visible_points) {
+  return visible_points < 0 || visible_points >= kMinVisiblePoints;
+}
 inline bool determinable(const io::Json& record) {
   return record.value("determinable", true) && in_view(record.value("visible_points", -1L));
 }
 struct GroupStats {
   size_t records = 0;
   int successes = 0, false_accepts = 0, ambiguous = 0, failed = 0;
-  int not_visible = 0;                  // unsuccessful with the target (nearly) absent from the scan
+  int not_visible = 0;  // unsuccessful with the target (nearly) absent from the scan
   // Records whose scan determines the pose (refined from the truth, the default method succeeds;
   // records of older runs without the check count as determinable) and their successes.
   int determinable = 0, determinable_successes = 0;

@@ -2,8 +2,8 @@
 // A benchmark definition (benchmarks/*.yaml): which scenes and targets, which conditions (a grid
 // or random draws over noise level, outlier rate, pose perturbation, prior error, sweep length),
 // how many trials, the seed. Lengths mm, angles deg. Strict: unknown keys are errors.
-#include <cstdint>
 #include <Eigen/Core>
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
@@ -14,7 +14,7 @@
 namespace laserfit::bench {
 
 struct Target {
-  std::string object;              // the scene object whose pose is estimated
+  std::string object;  // the scene object whose pose is estimated
   metrics::Symmetry symmetry;
   double voxel_mm = 0;             // registration voxel; 0 = auto
   std::string reference = "view";  // view: what the nominal sweep sees | full: whole surface
@@ -23,7 +23,7 @@ struct Target {
   // view only: after a first pass, register again against the view sampled at the pose found
   // (registration::register_in_view; every method but `paper`, which is Algorithm 1 as published).
   bool resample_view = false;
-  bool expect_failure = false;     // success = not `ok` (wrong object: must be rejected)
+  bool expect_failure = false;  // success = not `ok` (wrong object: must be rejected)
   // The point the true pose is rotated about (Conditions::rotation_deg). origin: the object
   // frame's origin. view: the centroid of what the nominal sweep sees of the object, so that the
   // seen part moves by at most translation_mm whatever the rotation; with a CAD origin far from
@@ -50,8 +50,9 @@ struct Conditions {
   double rotation_deg = 20;        // true pose: rotated up to this from the nominal (uniform axis)
   double translation_mm = 1;       //   and moved up to this (uniform in a ball)
   double prior_rotation_deg = -1;  // prior: the nominal pose (< 0), or the truth rotated up to
-  double prior_translation_mm = -1;//   this and moved up to this (independent of the perturbation)
-  double sweep_fraction = 1;       // sweep length x this about its centre (low overlap below 1)
+  double prior_translation_mm =
+      -1;                     //   this and moved up to this (independent of the perturbation)
+  double sweep_fraction = 1;  // sweep length x this about its centre (low overlap below 1)
 };
 // Names of the axes, in the order of Conditions (YAML keys, CSV columns).
 const std::vector<std::string>& axis_names();
@@ -61,13 +62,13 @@ double axis(const Conditions& c, const std::string& name);
 struct Benchmark {
   std::string name, file;
   uint64_t seed = 1;
-  int trials = 10;                 // per grid cell (grid) or in total per scene (random)
-  std::string mode = "grid";       // grid: every combination of the axes' values; random: draws
+  int trials = 10;            // per grid cell (grid) or in total per scene (random)
+  std::string mode = "grid";  // grid: every combination of the axes' values; random: draws
   std::map<std::string, std::vector<double>> axes;  // grid: values; random: [min, max]
   double t_tol_mm = 0.05, r_tol_deg = 0.5;          // success tolerance
   std::vector<std::string> methods = {"ceres"};     // default methods of `laserfit bench`
   std::vector<SceneCase> scenes;
-  uint64_t digest = 0;             // of the file's bytes: a resumed run must use the same file
+  uint64_t digest = 0;  // of the file's bytes: a resumed run must use the same file
 };
 
 Benchmark load_benchmark(const std::string& path);  // throws laserfit::Error naming the file

@@ -16,12 +16,12 @@
 namespace laserfit::bench {
 
 struct Trial {
-  int index = 0;        // position in the benchmark's list (stable: scene, cell, repetition)
-  int scene = 0;        // into Benchmark::scenes
-  int cell = 0;         // grid cell (random mode: 0)
-  int repetition = 0;   // 0 .. trials-1 within its cell
+  int index = 0;       // position in the benchmark's list (stable: scene, cell, repetition)
+  int scene = 0;       // into Benchmark::scenes
+  int cell = 0;        // grid cell (random mode: 0)
+  int repetition = 0;  // 0 .. trials-1 within its cell
   Conditions conditions;
-  uint64_t seed = 0;    // the trial's own seed: perturbation, scan noise, registration
+  uint64_t seed = 0;  // the trial's own seed: perturbation, scan noise, registration
 };
 std::vector<Trial> enumerate_trials(const Benchmark& b);
 // The trials of some repetitions and some scenes (by name; empty: all), in enumerate order.
@@ -39,26 +39,29 @@ Shard parse_shard(const std::string& text);  // "i/N", 0 <= i < N
 // A scene of the benchmark, loaded once, with its targets' reference clouds.
 struct PreparedScene {
   scan::ScanScene scene;
-  std::vector<int> object;             // per target: index into scene.objects
-  std::vector<PointCloud> reference;   // per target
-  std::vector<TriMesh> reference_mesh; // per target: what the reference is sampled from
+  std::vector<int> object;              // per target: index into scene.objects
+  std::vector<PointCloud> reference;    // per target
+  std::vector<TriMesh> reference_mesh;  // per target: what the reference is sampled from
   std::vector<std::vector<Eigen::Vector3f>> model;  // per target: mesh vertices (MSSD)
-  std::vector<Eigen::Vector3d> pivot;  // per target: what the true pose turns about (object frame, mm)
+  std::vector<Eigen::Vector3d>
+      pivot;  // per target: what the true pose turns about (object frame, mm)
 };
 PreparedScene prepare_scene(const Benchmark& b, int scene);
 
 // What a trial's registrations see and are scored against.
 struct TrialInput {
-  PointCloud scan;                     // organized, base frame, labels = scene object
-  std::vector<Pose> truth, prior;      // per target: T_scan_object (ground truth) and the prior
+  PointCloud scan;                 // organized, base frame, labels = scene object
+  std::vector<Pose> truth, prior;  // per target: T_scan_object (ground truth) and the prior
   uint64_t scan_seed = 0;
-  size_t scan_points = 0;              // valid points
+  size_t scan_points = 0;  // valid points
 };
 TrialInput simulate_trial(const Benchmark& b, const PreparedScene& p, const Trial& t);
 // The ground-truth file of a dataset trial: conditions, seeds, and per target its scan label,
 // reference file, symmetry, true and prior poses.
-io::Json input_json(const Benchmark& b, const PreparedScene& p, const Trial& t, const TrialInput& in);
-TrialInput read_trial(const PreparedScene& p, const std::string& scan_pcd, const std::string& gt_json);
+io::Json input_json(const Benchmark& b, const PreparedScene& p, const Trial& t,
+                    const TrialInput& in);
+TrialInput read_trial(const PreparedScene& p, const std::string& scan_pcd,
+                      const std::string& gt_json);
 
 // Registration settings of a named method (paper: PCL SampleConsensusPrerejective + rho_rot on
 // its result + PCL ICP, no prior pose; the others: rho_rot inside RANSAC, the prior as the first
@@ -73,13 +76,13 @@ struct AtTruth {
   bool determinable = false;
   std::string status, reason;  // of the refinement from the truth
 };
-AtTruth at_truth(const Benchmark& b, const PreparedScene& p, const Trial& t, const TrialInput& in, size_t k,
-                 const registration::Thresholds* thresholds);
+AtTruth at_truth(const Benchmark& b, const PreparedScene& p, const Trial& t, const TrialInput& in,
+                 size_t k, const registration::Thresholds* thresholds);
 
 struct TrialOptions {
   std::vector<std::string> methods;
   const registration::Thresholds* thresholds = nullptr;
-  std::string overlay_dir;             // non-empty: write scan + registered reference clouds here
+  std::string overlay_dir;  // non-empty: write scan + registered reference clouds here
 };
 // One JSON record per (target, method) — see docs in bench/README: errors, status, success,
 // the fit statistics, and a "timing" object (the only part that differs between runs).

@@ -14,7 +14,7 @@ namespace laserfit::bench {
 
 struct Score {
   int records = 0, successes = 0, false_accepts = 0;
-  int attempts = 0;                // RANSAC + refinement rounds, summed: the work done
+  int attempts = 0;  // RANSAC + refinement rounds, summed: the work done
   double median_t_um = 0, median_time_s = 0;
   double success_rate() const { return records ? double(successes) / records : 0; }
   // Fewer false accepts first (a wrong `ok` makes the robot miss), then more successes, then a
@@ -25,14 +25,14 @@ struct Score {
 
 struct TuneSettings {
   std::string method = "ceres";
-  std::vector<int> train, test;          // repetitions of every cell
-  std::vector<std::string> params;       // empty: all of tunable_params()
+  std::vector<int> train, test;     // repetitions of every cell
+  std::vector<std::string> params;  // empty: all of tunable_params()
   int jobs = 1;
   bool progress = true;
 };
 
 struct TuneResult {
-  registration::Thresholds thresholds;   // with provenance and held-out figures
+  registration::Thresholds thresholds;  // with provenance and held-out figures
   Score baseline_train, best_train, held_out, baseline_held_out;
   io::Json history = io::Json::array();  // every evaluation: parameter, value, score
 };

@@ -14,9 +14,9 @@ namespace laserfit::cad {
 
 struct ModelParam {
   std::string name;
-  double value;       // default
-  double min, max;    // accepted range (same unit)
-  std::string unit;   // always "mm" for lengths
+  double value;      // default
+  double min, max;   // accepted range (same unit)
+  std::string unit;  // always "mm" for lengths
   std::string help;
 };
 

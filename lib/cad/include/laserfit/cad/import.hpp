@@ -11,10 +11,10 @@
 namespace laserfit::cad {
 
 struct ImportSettings {
-  Unit unit = Unit::Auto;         // unit of the file's coordinates; Auto: the file's own, else guess
-  double deflection_mm = 0.01;    // STEP/IGES chordal deflection of the tessellation (mm)
+  Unit unit = Unit::Auto;       // unit of the file's coordinates; Auto: the file's own, else guess
+  double deflection_mm = 0.01;  // STEP/IGES chordal deflection of the tessellation (mm)
   double angular_deflection_rad = 0.2;  // STEP/IGES angular deflection (rad)
-  std::string part;               // select one part/node by name; empty: merge all parts
+  std::string part;                     // select one part/node by name; empty: merge all parts
   RepairSettings repair;
 };
 

@@ -8,7 +8,7 @@
 namespace laserfit::cad {
 
 struct TessellationSettings {
-  double deflection_mm = 0.01;        // max chordal distance between mesh and surface (mm)
+  double deflection_mm = 0.01;  // max chordal distance between mesh and surface (mm)
   double angular_deflection_rad = 0.2;
 };
 

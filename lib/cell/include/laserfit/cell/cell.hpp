@@ -28,9 +28,9 @@ struct Clearance {
 
 struct CellSettings {
   std::string file, task;
-  scan::ScanScene scene;              // meshes, sensor, sweep (relative to the scene's target)
-  int target = -1, part = -1;         // scene objects
-  std::vector<Pose> target_poses;     // T_world_target of each test setting (truth)
+  scan::ScanScene scene;           // meshes, sensor, sweep (relative to the scene's target)
+  int target = -1, part = -1;      // scene objects
+  std::vector<Pose> target_poses;  // T_world_target of each test setting (truth)
   Pose T_target_part_insert = Pose::Identity();  // part pose at insertion, target frame
   Eigen::Vector3d approach_mm = {0, 0, 0};       // part's approach position, target frame
   std::vector<double> stages;                    // verified waypoints toward the insertion, as
@@ -42,7 +42,7 @@ struct CellSettings {
   Clearance clearance;
   // The assembling arm: base in the world, the part in its gripper.
   Pose T_world_baseA = Pose::Identity();
-  RigidError baseA_error{};           // believed base-to-base calibration -> true
+  RigidError baseA_error{};  // believed base-to-base calibration -> true
   Pose T_flange_part = Pose::Identity();
   RigidError grasp_error{};
   // The sensing arm (base = world): the scanner on its flange.
@@ -51,18 +51,19 @@ struct CellSettings {
   robot::ErrorModelSettings arm_errors;
   robot::Joints q_teach_hint = robot::Joints::Zero();  // assembling arm near IC1 when teaching
   robot::Joints q_sense_hint = robot::Joints::Zero();  // sensing arm near its scan pose
-  double search_sweep_mm = 0;         // when the part is not found, re-scan with a sweep this long
-                                      // (same centre); 0: the scene's sweep only
-  double search_raise_mm = 0;         // when not found in the search sweep either, the next scan
-                                      // is taken from this much farther back along the view axis
-                                      // (the part may be nearer than the measuring range); 0: no
-  double ic2_joint1_deg = 90;         // IC2 = IC1 with this added to joint 1
-  int start_configs = 10;             // q^(1..N), each farther from the insertion pose
-  double start_step_mm = 25;          //   the i-th starts i * step from it
+  double search_sweep_mm = 0;  // when the part is not found, re-scan with a sweep this long
+                               // (same centre); 0: the scene's sweep only
+  double search_raise_mm = 0;  // when not found in the search sweep either, the next scan
+                               // is taken from this much farther back along the view axis
+                               // (the part may be nearer than the measuring range); 0: no
+  double ic2_joint1_deg = 90;  // IC2 = IC1 with this added to joint 1
+  int start_configs = 10;      // q^(1..N), each farther from the insertion pose
+  double start_step_mm = 25;   //   the i-th starts i * step from it
   // DoFs a registration may leave unobservable without harm (an `ambiguous` about them is
   // accepted): the needle's spin about its shaft, the thread's spin and slide along its own
   // axis. "" or x|y|z (object frame).
-  std::string target_weak_rotation, target_weak_translation, part_weak_rotation, part_weak_translation;
+  std::string target_weak_rotation, target_weak_translation, part_weak_rotation,
+      part_weak_translation;
 };
 
 CellSettings load_cell(const std::string& path);  // strict YAML; errors name the file and key
@@ -81,7 +82,8 @@ struct Cell {
   // Where the controller believes the part is (nominal kinematics, believed calibration).
   Pose part_believed(const robot::Joints& qA) const;
   Pose part_believed_from_flange(const Pose& T_baseA_flange) const;
-  // The flange pose (A's base, believed) that puts the part at T_world_part by the controller's belief.
+  // The flange pose (A's base, believed) that puts the part at T_world_part by the controller's
+  // belief.
   Pose flange_for_part(const Pose& T_world_part) const;
 };
 
@@ -89,9 +91,11 @@ struct Cell {
 // axis crosses the mouth plane, and the axis angle.
 struct Insertion {
   bool success = false;
-  double x_mm = 0, y_mm = 0, angle_deg = 0;  // where the part's axis crosses the mouth (insertion frame)
-  double depth_mm = 0;                        // its tip past the insertion point along the axis (< 0: short)
+  double x_mm = 0, y_mm = 0,
+         angle_deg = 0;  // where the part's axis crosses the mouth (insertion frame)
+  double depth_mm = 0;   // its tip past the insertion point along the axis (< 0: short)
 };
-Insertion check_insertion(const CellSettings& s, const Pose& T_world_target, const Pose& T_world_part);
+Insertion check_insertion(const CellSettings& s, const Pose& T_world_target,
+                          const Pose& T_world_part);
 
 }  // namespace laserfit::cell

@@ -28,19 +28,19 @@ struct ControllerSettings {
   registration::Thresholds thresholds;  // from laserfit tune (validated by its loader)
   planning::CorrectionSettings correction;
   robot::MotionSettings motion;
-  int max_scans = 3;                    // scans per measurement (re-scan on a rejected registration)
-  int max_rounds = 3;                   // correction rounds, each verified by a new scan
-  double verify_mm = 0.02;              // measured lateral residual that ends the rounds
-  double verify_axial_mm = 0.05;        //   and along the insertion axis (a tip is measured to
-                                        //   about one 10 um profile step)
-  double axial_gate_mm = 0.3;           // after the approach's corrections, one stage move cannot
-                                        // leave the part farther than this along its axis (it
-                                        // lands within ~0.15 mm): a larger reading is re-scanned,
-                                        // and the part moves at most this far per round along it
+  int max_scans = 3;              // scans per measurement (re-scan on a rejected registration)
+  int max_rounds = 3;             // correction rounds, each verified by a new scan
+  double verify_mm = 0.02;        // measured lateral residual that ends the rounds
+  double verify_axial_mm = 0.05;  //   and along the insertion axis (a tip is measured to
+                                  //   about one 10 um profile step)
+  double axial_gate_mm = 0.3;     // after the approach's corrections, one stage move cannot
+                                  // leave the part farther than this along its axis (it
+                                  // lands within ~0.15 mm): a larger reading is re-scanned,
+                                  // and the part moves at most this far per round along it
   size_t reference_points = 60000;
-  double prior_radius_mm = 1.0;         // scan points this near a prior-placed reference are a
-                                        // candidate part (else the clusters nearest the prior)
-  std::string dump_dir;                 // non-empty: write every scan and the references here
+  double prior_radius_mm = 1.0;  // scan points this near a prior-placed reference are a
+                                 // candidate part (else the clusters nearest the prior)
+  std::string dump_dir;          // non-empty: write every scan and the references here
 };
 
 // Defaults for a cell: its correction limits (its approach error budget) go to the planner and
@@ -50,10 +50,10 @@ ControllerSettings settings_for(const cell::CellSettings& cs);
 // What one scan tells: the target's and the part's poses in the scan frame, or why not.
 struct Measurement {
   bool ok = false;
-  bool target_ok = false;               // the target alone was trusted (T_scan_target is usable)
+  bool target_ok = false;  // the target alone was trusted (T_scan_target is usable)
   std::string reason;
   Pose T_scan_target = Pose::Identity(), T_scan_part = Pose::Identity();
-  bool part_axial_unknown = false;      // ambiguous along the part's own axis (harmless)
+  bool part_axial_unknown = false;  // ambiguous along the part's own axis (harmless)
   // Set when the target's spin about this axis (scan frame) is the prior's, not measured.
   std::optional<Eigen::Vector3d> target_prior_spin_axis;
   registration::RegistrationResult target, part;
@@ -63,16 +63,16 @@ struct Measurement {
 // the part at `T_target_part_goal` relative to the measured target.
 struct Correction {
   Pose delta = Pose::Identity();
-  double lateral_mm = 0;                // residual perpendicular to the insertion axis
-  double axial_mm = 0;                  // along it (> 0: the part must move further in); 0 when
-                                        // the scan could not fix the part along its own axis
+  double lateral_mm = 0;  // residual perpendicular to the insertion axis
+  double axial_mm = 0;    // along it (> 0: the part must move further in); 0 when
+                          // the scan could not fix the part along its own axis
   double angle_deg = 0;
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // the insertion axis (scan frame)
 };
 // with_axial = false: the part is not moved along its own axis (once its end is near or in the
 // target, the target hides it and the measured end is short).
-Correction compute_correction(const Measurement& m, const Pose& T_target_part_goal, bool with_orientation,
-                              bool with_axial = true);
+Correction compute_correction(const Measurement& m, const Pose& T_target_part_goal,
+                              bool with_orientation, bool with_axial = true);
 
 // The correction with its move along the insertion axis limited to max_mm (a trust region: a
 // reading that is off moves the part at most that far before the next scan checks it).
@@ -80,22 +80,25 @@ Correction limit_axial(Correction c, double max_mm);
 
 // Accept or reject a registration for the task (ok; or ambiguous about the declared harmless DoF).
 bool acceptable(const registration::RegistrationResult& r, const std::string& weak_rotation_axis,
-                const std::string& weak_translation_axis, const Pose& T_scan_object, std::string* why);
+                const std::string& weak_translation_axis, const Pose& T_scan_object,
+                std::string* why);
 
 // T with its rotation about its own axis `e` (object frame, unit) replaced by the prior's, the
 // rest of its orientation and its position kept: for a registration that left that spin
 // unobservable (the needle about its shaft).
 Pose with_prior_spin(const Pose& T, const Pose& prior, const Eigen::Vector3d& e);
 
-Measurement measure(const PointCloud& scan, const PointCloud& target_ref, const PointCloud& part_ref,
-                    const Pose& target_prior, const Pose& part_prior, const cell::CellSettings& cs,
-                    const ControllerSettings& s, uint64_t seed, std::vector<std::string>& log,
-                    const std::optional<Pose>& tracked_target = std::nullopt,  // an earlier T_scan_target
-                    const std::optional<Pose>& tracked_part = std::nullopt);   // T_target_part expected
-                                                                               // from the last measurement
+Measurement measure(
+    const PointCloud& scan, const PointCloud& target_ref, const PointCloud& part_ref,
+    const Pose& target_prior, const Pose& part_prior, const cell::CellSettings& cs,
+    const ControllerSettings& s, uint64_t seed, std::vector<std::string>& log,
+    const std::optional<Pose>& tracked_target = std::nullopt,  // an earlier T_scan_target
+    const std::optional<Pose>& tracked_part = std::nullopt);   // T_target_part expected
+                                                               // from the last measurement
 
 // The trajectory for a correction: from the flange's believed pose (A's base) to the pose that
 // applies `delta` (world frame) through the believed base-to-base transform; refused if too large.
-planning::Trajectory plan(const cell::Cell& c, const Pose& T_baseA_flange, const Pose& delta, const ControllerSettings& s);
+planning::Trajectory plan(const cell::Cell& c, const Pose& T_baseA_flange, const Pose& delta,
+                          const ControllerSettings& s);
 
 }  // namespace laserfit::controller

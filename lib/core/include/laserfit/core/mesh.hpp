@@ -13,8 +13,8 @@ struct TriMesh {
 
   bool empty() const { return faces.empty(); }
   Eigen::AlignedBox3f bbox() const;
-  Eigen::Vector3f extent() const;  // bbox size along x, y, z (mm)
-  double area() const;             // mm^2
+  Eigen::Vector3f extent() const;            // bbox size along x, y, z (mm)
+  double area() const;                       // mm^2
   Eigen::Vector3f face_normal(int f) const;  // unit, zero for a degenerate face
   double face_area(int f) const;
   // Appends another mesh (indices shifted), used to merge multi-part files.

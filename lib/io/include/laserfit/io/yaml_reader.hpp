@@ -30,7 +30,8 @@ struct YamlReader {
       if (!keys.count(k)) fail(where, "unknown key '" + k + "'");
     }
   }
-  double num(const YAML::Node& n, const std::string& key, double def, const std::string& where) const {
+  double num(const YAML::Node& n, const std::string& key, double def,
+             const std::string& where) const {
     if (!n[key]) return def;
     try {
       const double v = n[key].as<double>();
@@ -41,11 +42,12 @@ struct YamlReader {
     }
   }
   // A whole number in [lo, hi].
-  long long integer(const YAML::Node& n, const std::string& key, long long def, const std::string& where,
-                    long long lo, long long hi) const {
+  long long integer(const YAML::Node& n, const std::string& key, long long def,
+                    const std::string& where, long long lo, long long hi) const {
     const double v = num(n, key, double(def), where);
     if (v != std::floor(v) || v < double(lo) || v > double(hi))
-      fail(where + "." + key, "must be a whole number in " + std::to_string(lo) + ".." + std::to_string(hi));
+      fail(where + "." + key,
+           "must be a whole number in " + std::to_string(lo) + ".." + std::to_string(hi));
     return static_cast<long long>(v);
   }
   std::string str(const YAML::Node& n, const std::string& key, const std::string& def,
@@ -55,7 +57,8 @@ struct YamlReader {
     return n[key].as<std::string>();
   }
   // A required key: missing -> "<where>: missing key '<key>'".
-  const YAML::Node need(const YAML::Node& n, const std::string& key, const std::string& where) const {
+  const YAML::Node need(const YAML::Node& n, const std::string& key,
+                        const std::string& where) const {
     if (!n[key]) fail(where, "missing key '" + key + "'");
     return n[key];
   }

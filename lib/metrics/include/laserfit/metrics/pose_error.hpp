@@ -23,9 +23,9 @@ struct Symmetry {
 Symmetry parse_symmetry(const std::string& text);
 
 struct PoseError {
-  double t_mm = 0;      // translation of the object frame's origin
-  double r_deg = 0;     // rotation angle (for a continuous symmetry: angle between the axes)
-  double mssd_mm = 0;   // max over the model points of |T_est x - T_gt S x|, min over S
+  double t_mm = 0;     // translation of the object frame's origin
+  double r_deg = 0;    // rotation angle (for a continuous symmetry: angle between the axes)
+  double mssd_mm = 0;  // max over the model points of |T_est x - T_gt S x|, min over S
 };
 
 // Error of `est` against `gt` (both T_scan_object), minimised over the symmetries. `model`:

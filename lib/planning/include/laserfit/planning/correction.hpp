@@ -14,13 +14,13 @@
 namespace laserfit::planning {
 
 struct CorrectionSettings {
-  double max_translation_mm = 5.0;   // refuse larger corrections (a registration gone wrong)
+  double max_translation_mm = 5.0;  // refuse larger corrections (a registration gone wrong)
   double max_rotation_deg = 5.0;
-  double rate_hz = 1000.0;           // Panda's control rate
-  double speed_fraction = 0.1;       // use this fraction of the Cartesian limits (cautious)
+  double rate_hz = 1000.0;      // Panda's control rate
+  double speed_fraction = 0.1;  // use this fraction of the Cartesian limits (cautious)
   double min_duration_s = 0.05;
-  robot::CartesianLimits limits;     // Panda datasheet, mm
-  void validate() const;             // throws laserfit::Error on nonsense
+  robot::CartesianLimits limits;  // Panda datasheet, mm
+  void validate() const;          // throws laserfit::Error on nonsense
 };
 
 struct TrajectorySample {
@@ -30,14 +30,15 @@ struct TrajectorySample {
 
 struct Trajectory {
   bool ok = false;
-  std::string reason;                // why refused
+  std::string reason;  // why refused
   double duration_s = 0, translation_mm = 0, rotation_deg = 0;
-  double peak_v_mm_s = 0, peak_a_mm_s2 = 0, peak_j_mm_s3 = 0;     // measured on the samples
+  double peak_v_mm_s = 0, peak_a_mm_s2 = 0, peak_j_mm_s3 = 0;  // measured on the samples
   double peak_w_rad_s = 0, peak_dw_rad_s2 = 0, peak_ddw_rad_s3 = 0;
   std::vector<TrajectorySample> samples;  // empty when refused
 };
 
-Trajectory plan_correction(const Pose& T_base_start, const Pose& T_base_goal, const CorrectionSettings& s);
+Trajectory plan_correction(const Pose& T_base_start, const Pose& T_base_goal,
+                           const CorrectionSettings& s);
 
 // The joint path that follows a trajectory (IK per sample, seeded by the previous one), checked
 // against the arm's joint position, velocity, acceleration and jerk limits.
@@ -46,7 +47,8 @@ struct JointCheck {
   std::string reason;
   std::vector<robot::Joints> q;
 };
-JointCheck follow_in_joints(const robot::ArmModel& arm, const Trajectory& traj, const robot::Joints& q_start);
+JointCheck follow_in_joints(const robot::ArmModel& arm, const Trajectory& traj,
+                            const robot::Joints& q_start);
 
 // t, x, y, z (mm), qw, qx, qy, qz per line, robot base frame; written atomically.
 void write_trajectory_csv(const std::string& path, const Trajectory& traj);

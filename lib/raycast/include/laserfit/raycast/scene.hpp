@@ -14,9 +14,9 @@ namespace laserfit::raycast {
 
 struct Hit {
   float t = std::numeric_limits<float>::infinity();  // distance along the (unit) ray, mm
-  int geom = -1;                                      // which mesh (order of add_mesh)
-  int prim = -1;                                      // which triangle of that mesh
-  Eigen::Vector3f normal = Eigen::Vector3f::Zero();   // outward face normal, scene frame
+  int geom = -1;                                     // which mesh (order of add_mesh)
+  int prim = -1;                                     // which triangle of that mesh
+  Eigen::Vector3f normal = Eigen::Vector3f::Zero();  // outward face normal, scene frame
   bool valid() const { return geom >= 0; }
 };
 
@@ -45,8 +45,9 @@ class Scene {
                      float tnear, float tfar, std::vector<Hit>& hits) const;
   // clear[i] = segment from[i] -> to[i] free of geometry (ends excluded by eps), for the rays
   // with active[i]; inactive entries are left untouched.
-  void segments_clear(const std::vector<Eigen::Vector3f>& from, const std::vector<Eigen::Vector3f>& to,
-                      const std::vector<uint8_t>& active, float eps, std::vector<uint8_t>& clear) const;
+  void segments_clear(const std::vector<Eigen::Vector3f>& from,
+                      const std::vector<Eigen::Vector3f>& to, const std::vector<uint8_t>& active,
+                      float eps, std::vector<uint8_t>& clear) const;
 
   size_t triangle_count() const;
 

@@ -20,42 +20,42 @@ using Matrix6d = Eigen::Matrix<double, 6, 6>;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
 struct PreprocessSettings {
-  double voxel_mm = 0.0;          // voxel grid leaf; 0 = auto (reference bbox diagonal / 150)
-  int outlier_neighbours = 20;    // statistical outlier removal: k neighbours ...
-  double outlier_std = 2.0;       // ... and the std-dev multiplier (0 disables the filter)
-  double normal_radius_vox = 3.0; // normal estimation radius, in voxels
+  double voxel_mm = 0.0;           // voxel grid leaf; 0 = auto (reference bbox diagonal / 150)
+  int outlier_neighbours = 20;     // statistical outlier removal: k neighbours ...
+  double outlier_std = 2.0;        // ... and the std-dev multiplier (0 disables the filter)
+  double normal_radius_vox = 3.0;  // normal estimation radius, in voxels
   Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  // normals are flipped towards it (mm)
-  bool use_viewpoint = false;     // scan clouds: towards the sensor; references keep their own
+  bool use_viewpoint = false;  // scan clouds: towards the sensor; references keep their own
 };
 
 struct CoarseSettings {
-  std::string method = "gated";      // gated: rho_rot tested on every RANSAC hypothesis;
-                                     // pcl: PCL SampleConsensusPrerejective, gate on its result
-  double voxel_factor = 2.0;         // features and RANSAC run on a grid this much coarser
-  double feature_radius_vox = 6.0;   // FPFH radius, in voxels
-  int ransac_iterations = 10000;     // SampleConsensusPrerejective iterations per attempt
-  int samples = 3;                   // correspondences per hypothesis
-  int correspondence_randomness = 10;// k nearest features to pick from
-  double similarity = 0.85;          // edge-length similarity for pre-rejection (0..1)
-  double inlier_fraction = 0.25;     // of the (segmented) scan, for a hypothesis to be accepted
+  std::string method = "gated";        // gated: rho_rot tested on every RANSAC hypothesis;
+                                       // pcl: PCL SampleConsensusPrerejective, gate on its result
+  double voxel_factor = 2.0;           // features and RANSAC run on a grid this much coarser
+  double feature_radius_vox = 6.0;     // FPFH radius, in voxels
+  int ransac_iterations = 10000;       // SampleConsensusPrerejective iterations per attempt
+  int samples = 3;                     // correspondences per hypothesis
+  int correspondence_randomness = 10;  // k nearest features to pick from
+  double similarity = 0.85;            // edge-length similarity for pre-rejection (0..1)
+  double inlier_fraction = 0.25;       // of the (segmented) scan, for a hypothesis to be accepted
   double max_correspondence_vox = 2.5;
 };
 
 struct RefineSettings {
-  std::string method = "ceres";           // see refiner_names(); "paper": PCL point-to-point ICP
-  double max_correspondence_vox = 2.0;    // ICP correspondence gate, in voxels
-  double initial_gate_mm = 1.0;           // ceres: first gate at least this (a prior's error)
-  int max_iterations = 60;                // per scale (ceres) / in total (PCL variants)
-  double convergence_mm = 1e-4;           // stop when the update moves points less than this
-  std::string robust_loss = "huber";      // ceres: huber | cauchy | tukey | none
-  double robust_scale_vox = 0.1;          // ceres: robust loss scale at the finest gate, in voxels
-                                          // (x4, x2 at the coarser gates)
+  std::string method = "ceres";         // see refiner_names(); "paper": PCL point-to-point ICP
+  double max_correspondence_vox = 2.0;  // ICP correspondence gate, in voxels
+  double initial_gate_mm = 1.0;         // ceres: first gate at least this (a prior's error)
+  int max_iterations = 60;              // per scale (ceres) / in total (PCL variants)
+  double convergence_mm = 1e-4;         // stop when the update moves points less than this
+  std::string robust_loss = "huber";    // ceres: huber | cauchy | tukey | none
+  double robust_scale_vox = 0.1;        // ceres: robust loss scale at the finest gate, in voxels
+                                        // (x4, x2 at the coarser gates)
 };
 
 struct TrustSettings {
-  double max_rmse_vox = 0.5;        // inlier RMSE above this (in voxels) -> failed
-  double min_overlap = 0.3;         // fraction of the reference explained -> else failed
-  double ambiguity_ratio = 1e-3;    // Hessian eigenvalue ratio (scaled) below -> ambiguous
+  double max_rmse_vox = 0.5;      // inlier RMSE above this (in voxels) -> failed
+  double min_overlap = 0.3;       // fraction of the reference explained -> else failed
+  double ambiguity_ratio = 1e-3;  // Hessian eigenvalue ratio (scaled) below -> ambiguous
   // DoFs the task declares weak for this reference (its frame, unit; a needle's spin about its
   // shaft, a plug's slide along itself): ambiguous about them below the looser ratio. Just above
   // ambiguity_ratio (1.4e-3 to 3.5e-3) a needle's spin came back `ok` up to 1 deg off and a
@@ -69,13 +69,13 @@ struct TrustSettings {
   // one region is dropped is not known to that tolerance. On the o2ac panel (a 20 x 25 mm window
   // 37 mm from its origin, the in-plane rotation pinned by two hole outlines) every wrong `ok`
   // of 60 trials had sigma 0.23-2.9 mm; USB and needle poses stay under 12 um.
-  int jackknife_blocks = 4;         // per principal axis of the matched points
-  double max_sigma_mm = 0.05;       // jackknife sigma of the reference origin's position
-  double max_sigma_deg = 0.5;       // jackknife sigma of the rotation
-  double restart_agreement_mm = 0.02;   // restarts agree when the reference's points move less
-                                        // than this (RMS along their normals) between them
-  double polish_mm = 0.02;          // a robust point-to-plane polish of the final pose must move
-  double polish_deg = 0.2;          // it less than this, else failed (non-Ceres refiners)
+  int jackknife_blocks = 4;            // per principal axis of the matched points
+  double max_sigma_mm = 0.05;          // jackknife sigma of the reference origin's position
+  double max_sigma_deg = 0.5;          // jackknife sigma of the rotation
+  double restart_agreement_mm = 0.02;  // restarts agree when the reference's points move less
+                                       // than this (RMS along their normals) between them
+  double polish_mm = 0.02;             // a robust point-to-plane polish of the final pose must move
+  double polish_deg = 0.2;             // it less than this, else failed (non-Ceres refiners)
   // Slide search (slide.cpp): a pose flat along a translation not declared weak is refined again
   // from poses slid along it by +-step, +-2 step ... up to the range, and a re-refinement the data
   // pin is kept (mm; range 0 = off). A needle's eye is 1 mm long: steps well under it.
@@ -88,17 +88,17 @@ struct RegistrationSettings {
   CoarseSettings coarse;
   RefineSettings refine;
   TrustSettings trust;
-  ThinSettings thin;                // thin parts (a thread) are detected, not registered
+  ThinSettings thin;  // thin parts (a thread) are detected, not registered
   // Algorithm 1 of the paper.
-  double rho_icp_vox2 = 0.05;       // stop when ICP fitness (mean squared distance) < rho * voxel^2
-  double rho_rot_deg = 30.0;        // reject RANSAC poses farther than this from q0
+  double rho_icp_vox2 = 0.05;  // stop when ICP fitness (mean squared distance) < rho * voxel^2
+  double rho_rot_deg = 30.0;   // reject RANSAC poses farther than this from q0
   std::optional<Eigen::Quaterniond> q0;  // prior orientation of the reference in the scan frame
-  std::optional<Pose> prior;        // prior pose (e.g. from the arm's kinematics): the first
-                                    // hypothesis, then RANSAC; refinement only with skip_coarse
+  std::optional<Pose> prior;             // prior pose (e.g. from the arm's kinematics): the first
+                              // hypothesis, then RANSAC; refinement only with skip_coarse
   bool skip_coarse = false;
-  double prior_radius_mm = 1.0;     // segmentation: scan points this near the reference placed
-                                    // at the prior are a candidate part (the prior's error)
-  int max_attempts = 8;             // RANSAC + ICP rounds before giving up
+  double prior_radius_mm = 1.0;  // segmentation: scan points this near the reference placed
+                                 // at the prior are a candidate part (the prior's error)
+  int max_attempts = 8;          // RANSAC + ICP rounds before giving up
   uint64_t seed = 1;
 };
 
@@ -108,21 +108,21 @@ const char* status_name(Status s);
 struct RegistrationResult {
   Pose T_scan_ref = Pose::Identity();
   Status status = Status::Failed;
-  std::string reason;               // why ambiguous / failed
-  double fitness_mm2 = 0;           // PCL-style ICP fitness: mean squared NN distance (inliers)
+  std::string reason;      // why ambiguous / failed
+  double fitness_mm2 = 0;  // PCL-style ICP fitness: mean squared NN distance (inliers)
   double inlier_rmse_mm = 0;
-  double overlap = 0;               // fraction of scan points with a reference point within gate
+  double overlap = 0;                // fraction of scan points with a reference point within gate
   int attempts = 0, iterations = 0;  // iterations: ceres and ndt only (PCL ICP does not say)
-  Matrix6d covariance = Matrix6d::Zero();  // [rx ry rz (rad), tx ty tz (mm)], scan frame
+  Matrix6d covariance = Matrix6d::Zero();           // [rx ry rz (rad), tx ty tz (mm)], scan frame
   Vector6d hessian_eigenvalues = Vector6d::Zero();  // scaled, ascending
-  Vector6d weakest_direction = Vector6d::Zero();  // [r (axis, scaled by the part's size) ; t]
-  int unobservable = 0;             // ambiguous: the directions it names (>= 1; a declared-weak one counts)
-  int flat = 0;                     // Hessian directions below ambiguity_ratio (declared weak or not)
+  Vector6d weakest_direction = Vector6d::Zero();    // [r (axis, scaled by the part's size) ; t]
+  int unobservable = 0;  // ambiguous: the directions it names (>= 1; a declared-weak one counts)
+  int flat = 0;          // Hessian directions below ambiguity_ratio (declared weak or not)
   // Block-jackknife standard deviations (TrustSettings::jackknife_blocks): of the reference
   // origin's position (largest axis, mm) and of the rotation (largest axis, deg); infinite when
   // too few points were matched to compute them (JSON: null), 0 when the jackknife is off.
   double sigma_origin_mm = 0, sigma_rotation_deg = 0;
-  bool not_pinned = false;          // ambiguous because a sigma is above TrustSettings' limit
+  bool not_pinned = false;  // ambiguous because a sigma is above TrustSettings' limit
   // Ambiguous along a translation: where along it (mm from the pose, along its weakest direction)
   // the attempts that fit as well converged; the plateau the slide search covers.
   double flat_from_mm = 0, flat_to_mm = 0;
@@ -147,8 +147,10 @@ double top_sigma(const Eigen::Matrix3d& covariance);
 
 // For an `ambiguous` result: is its weakest direction a rotation about / a translation along
 // `axis` (scan frame, unit), within `tol_deg`? (Which DoF the scan could not fix.)
-bool weakest_is_rotation_about(const RegistrationResult& r, const Eigen::Vector3d& axis, double tol_deg = 10);
-bool weakest_is_translation_along(const RegistrationResult& r, const Eigen::Vector3d& axis, double tol_deg = 10);
+bool weakest_is_rotation_about(const RegistrationResult& r, const Eigen::Vector3d& axis,
+                               double tol_deg = 10);
+bool weakest_is_translation_along(const RegistrationResult& r, const Eigen::Vector3d& axis,
+                                  double tol_deg = 10);
 
 // The unit vector of the reference-frame axis named "x", "y" or "z" (how cells, benchmarks and
 // the CLI name a weak DoF); nullopt for "" (none). Throws laserfit::Error on any other name.
@@ -157,13 +159,14 @@ std::optional<Eigen::Vector3d> named_axis(const std::string& name);
 // Splits a scan into parts by Euclidean clustering of its downsampled points (gap larger than
 // `tolerance_mm`), largest first; each part is returned at full resolution (the scan points in
 // the cluster's bounding box grown by one voxel). Clusters under `min_points` are dropped.
-std::vector<PointCloud> segment_clusters(const PointCloud& scan, double voxel_mm, double tolerance_mm,
-                                         size_t min_points = 50);
+std::vector<PointCloud> segment_clusters(const PointCloud& scan, double voxel_mm,
+                                         double tolerance_mm, size_t min_points = 50);
 
 // The scan points within `radius_mm` of `ref` placed at `T_scan_ref` (unorganized), or of the
 // reference slid from there by any translation between `slide_from_mm` and `slide_to_mm` (scan
 // frame).
-PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& T_scan_ref, double radius_mm,
+PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& T_scan_ref,
+                     double radius_mm,
                      const Eigen::Vector3d& slide_from_mm = Eigen::Vector3d::Zero(),
                      const Eigen::Vector3d& slide_to_mm = Eigen::Vector3d::Zero());
 
@@ -177,7 +180,8 @@ RegistrationResult register_segmented(const PointCloud& scan, const PointCloud& 
                                       const RegistrationSettings& settings, int max_clusters = 4,
                                       int* cluster = nullptr);
 
-// What a scanner sees of the part placed at T_scan_ref (a view reference, e.g. scan::view_reference).
+// What a scanner sees of the part placed at T_scan_ref (a view reference, e.g.
+// scan::view_reference).
 using ViewSampler = std::function<PointCloud(const Pose& T_scan_ref)>;
 // A view reference depends on the pose it is seen at. Sampled at the prior, it shows walls that a
 // part turned away from the prior no longer shows and lacks those it turned toward; a socket
@@ -186,8 +190,9 @@ using ViewSampler = std::function<PointCloud(const Pose& T_scan_ref)>;
 // repetitions 70 and 144). register_segmented with `ref`, then, when that found a pose, once more
 // with `view` sampled at it (that pose as the prior); the second answer is kept unless it failed
 // where the first did not. Thin parts are detected, not registered: one pass.
-RegistrationResult register_in_view(const PointCloud& scan, const PointCloud& ref, const ViewSampler& view,
-                                    const RegistrationSettings& settings, int max_clusters = 4);
+RegistrationResult register_in_view(const PointCloud& scan, const PointCloud& ref,
+                                    const ViewSampler& view, const RegistrationSettings& settings,
+                                    int max_clusters = 4);
 
 // Does `ref` go to the thin-part detector (settings.thin.mode, and for auto its thin_profile)?
 // register_cloud and register_segmented dispatch there themselves.
@@ -196,6 +201,7 @@ bool uses_thin_detector(const PointCloud& ref, const RegistrationSettings& setti
 // Locates a thin part's tip and axis (thin.hpp): `ambiguous` (its spin is unobservable) with the
 // pose, or `failed` with the candidates' reasons. Needs settings.prior (or at least q0: then
 // exactly one thin candidate along it must be found).
-RegistrationResult detect_thin_part(const PointCloud& scan, const PointCloud& ref, const RegistrationSettings& settings);
+RegistrationResult detect_thin_part(const PointCloud& scan, const PointCloud& ref,
+                                    const RegistrationSettings& settings);
 
 }  // namespace laserfit::registration

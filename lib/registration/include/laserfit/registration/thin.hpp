@@ -15,27 +15,28 @@
 namespace laserfit::registration {
 
 struct ThinSettings {
-  std::string mode = "auto";          // auto: thin references (below) are detected, not registered;
-                                      // on: every reference; off: never
-  double max_diameter_mm = 0.5;       // auto: a reference at most this thick ...
-  double min_aspect = 5.0;            // ... and at least this many diameters long is thin
-  double search_radius_mm = 10.0;     // candidates within this of the prior-placed reference's axis
-                                      // (the prior's error: an arm off by mm after an IC2 approach)
-  double linear_radius_mm = 0.25;     // neighbourhood for telling line points from surfaces ...
-  double max_cross_ratio = 0.35;      // ... a line's second principal spread is below this x the first
-  double cluster_tolerance_mm = 0.25; // line points further apart are separate candidates (a thread
-                                      // returns nothing from some profiles)
-  int min_points = 15;                // per candidate
-  double fit_length_mm = 2.0;         // the cylinder is fitted to this much behind the seen tip
-  double min_length_mm = 0.3;         // seen length of a candidate along its axis
-  double max_axis_deg = 30.0;         // candidate axis within this of the prior's (a +-20 deg prior)
-  double axis_prior_deg = 2.0;        // the prior's axis is this good (sigma): the gripper holds the
-                                      // thread straight; 0 = fit the axis freely
-  bool fit_radius = false;            // fit the radius too (else the reference's, see cylinder_fit.cpp)
-  double radius_tolerance = 0.35;     // with fit_radius: within this fraction of the reference's
-  double max_rmse_mm = 0.012;         // cylinder-fit residual RMS (sensor noise is ~2 um)
-  double min_inlier_fraction = 0.5;   // of the candidate's points within 3 robust scales (the rim of
-                                      // the cut end, a short line across the axis, is in the cluster)
+  std::string mode = "auto";       // auto: thin references (below) are detected, not registered;
+                                   // on: every reference; off: never
+  double max_diameter_mm = 0.5;    // auto: a reference at most this thick ...
+  double min_aspect = 5.0;         // ... and at least this many diameters long is thin
+  double search_radius_mm = 10.0;  // candidates within this of the prior-placed reference's axis
+                                   // (the prior's error: an arm off by mm after an IC2 approach)
+  double linear_radius_mm = 0.25;  // neighbourhood for telling line points from surfaces ...
+  double max_cross_ratio = 0.35;   // ... a line's second principal spread is below this x the first
+  double cluster_tolerance_mm = 0.25;  // line points further apart are separate candidates (a
+                                       // thread returns nothing from some profiles)
+  int min_points = 15;          // per candidate
+  double fit_length_mm = 2.0;   // the cylinder is fitted to this much behind the seen tip
+  double min_length_mm = 0.3;   // seen length of a candidate along its axis
+  double max_axis_deg = 30.0;   // candidate axis within this of the prior's (a +-20 deg prior)
+  double axis_prior_deg = 2.0;  // the prior's axis is this good (sigma): the gripper holds the
+                                // thread straight; 0 = fit the axis freely
+  bool fit_radius = false;      // fit the radius too (else the reference's, see cylinder_fit.cpp)
+  double radius_tolerance = 0.35;  // with fit_radius: within this fraction of the reference's
+  double max_rmse_mm = 0.012;      // cylinder-fit residual RMS (sensor noise is ~2 um)
+  double min_inlier_fraction =
+      0.5;  // of the candidate's points within 3 robust scales (the rim of
+            // the cut end, a short line across the axis, is in the cluster)
 };
 
 struct ThinProfile {
@@ -53,15 +54,16 @@ struct CylinderFit {
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // unit
   double radius_mm = 0, rmse_mm = 0;                // rmse over the inliers
   double inlier_fraction = 0;
-  Eigen::Matrix<double, 5, 5> covariance = Eigen::Matrix<double, 5, 5>::Zero();  // of the parameters
-                                                    // [u v (mm, across), alpha beta (rad), r (mm)]
+  Eigen::Matrix<double, 5, 5> covariance =
+      Eigen::Matrix<double, 5, 5>::Zero();  // of the parameters
+                                            // [u v (mm, across), alpha beta (rad), r (mm)]
   Eigen::Vector3d e1 = Eigen::Vector3d::UnitX(), e2 = Eigen::Vector3d::UnitY();  // their directions
-  std::vector<char> inlier;                         // per input point
+  std::vector<char> inlier;                                                      // per input point
 };
 struct CylinderFitOptions {
-  bool fix_radius = false;   // hold r at radius0 (a narrow arc hardly fixes it)
-  double axis_sigma_rad = 0; // > 0: Gaussian prior of the axis about axis0 (rad)
-  double noise_mm = 0.003;   // the points' noise across the surface (whitens the residuals)
+  bool fix_radius = false;    // hold r at radius0 (a narrow arc hardly fixes it)
+  double axis_sigma_rad = 0;  // > 0: Gaussian prior of the axis about axis0 (rad)
+  double noise_mm = 0.003;    // the points' noise across the surface (whitens the residuals)
 };
 // Least-squares cylinder through `pts` (only the side facing the sensor need be seen): residual
 // |distance to the axis| - r under a Huber loss of scale `robust_mm`, from an axis guess.

@@ -14,15 +14,15 @@ namespace laserfit::registration {
 
 struct Thresholds {
   // The parameters the tuning searches (defaults = RegistrationSettings' defaults).
-  std::string method = "ceres";        // refiner
-  double voxel_scale = 1.0;            // x each object's voxel (below)
-  double feature_radius_vox = 6.0;     // FPFH radius, voxels
-  int ransac_iterations = 10000;       // per attempt
-  double max_correspondence_vox = 2.0; // ICP gate, voxels
-  double rho_icp_vox2 = 0.05;          // Algorithm 1: stop when ICP fitness < rho * voxel^2
-  double rho_rot_deg = 30.0;           // Algorithm 1: orientation gate around q0
-  double max_rmse_vox = 0.5;           // failure detection: inlier RMSE limit, voxels
-  double min_overlap = 0.3;            // failure detection: fraction of the reference explained
+  std::string method = "ceres";            // refiner
+  double voxel_scale = 1.0;                // x each object's voxel (below)
+  double feature_radius_vox = 6.0;         // FPFH radius, voxels
+  int ransac_iterations = 10000;           // per attempt
+  double max_correspondence_vox = 2.0;     // ICP gate, voxels
+  double rho_icp_vox2 = 0.05;              // Algorithm 1: stop when ICP fitness < rho * voxel^2
+  double rho_rot_deg = 30.0;               // Algorithm 1: orientation gate around q0
+  double max_rmse_vox = 0.5;               // failure detection: inlier RMSE limit, voxels
+  double min_overlap = 0.3;                // failure detection: fraction of the reference explained
   std::map<std::string, double> voxel_mm;  // per object name, mm (before voxel_scale)
 
   // Provenance.
@@ -32,7 +32,8 @@ struct Thresholds {
   double held_out_success_rate = 0, held_out_median_t_um = 0;
 
   // Settings for registering `object` (its voxel if listed, else `fallback_voxel_mm`).
-  void apply(RegistrationSettings& s, const std::string& object, double fallback_voxel_mm = 0) const;
+  void apply(RegistrationSettings& s, const std::string& object,
+             double fallback_voxel_mm = 0) const;
 };
 
 Thresholds load_thresholds(const std::string& path);

@@ -25,12 +25,14 @@ struct ChartSettings {
   int width = 900, height = 560;
 };
 
-void render_chart(const std::string& png, const std::vector<Series>& series, const ChartSettings& s);
+void render_chart(const std::string& png, const std::vector<Series>& series,
+                  const ChartSettings& s);
 
 // `cloud` labels: 0 = scan (grey), 1 = registered reference (orange); seen from `viewpoint` (mm,
 // the sensor position) towards the cloud's centre.
-void render_overlay(const std::string& png, const PointCloud& cloud, const Eigen::Vector3d& viewpoint,
-                    const std::string& title, int width = 900, int height = 700);
+void render_overlay(const std::string& png, const PointCloud& cloud,
+                    const Eigen::Vector3d& viewpoint, const std::string& title, int width = 900,
+                    int height = 700);
 
 // True when an X display is available for VTK.
 bool have_display();

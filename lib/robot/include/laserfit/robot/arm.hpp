@@ -10,8 +10,8 @@
 
 namespace laserfit::robot {
 
-using Joints = Eigen::Matrix<double, 7, 1>;      // rad
-using Jacobian = Eigen::Matrix<double, 6, 7>;    // rows: v (mm/s per rad/s), omega (rad/s per rad/s)
+using Joints = Eigen::Matrix<double, 7, 1>;    // rad
+using Jacobian = Eigen::Matrix<double, 6, 7>;  // rows: v (mm/s per rad/s), omega (rad/s per rad/s)
 
 // Row i: T_{i-1,i} = RotX(alpha) * TransX(a) * RotZ(q_i + theta) * TransZ(d) (Craig's convention;
 // the Panda table's a and alpha are a_{i-1}, alpha_{i-1}).
@@ -20,10 +20,10 @@ struct DhRow {
 };
 
 struct JointLimits {
-  Joints q_min, q_max;   // rad
-  Joints qd_max;         // rad/s
-  Joints qdd_max;        // rad/s^2
-  Joints qddd_max;       // rad/s^3
+  Joints q_min, q_max;  // rad
+  Joints qd_max;        // rad/s
+  Joints qdd_max;       // rad/s^2
+  Joints qddd_max;      // rad/s^3
 };
 
 // Cartesian limits of the flange (Panda datasheet, converted to mm).
@@ -35,14 +35,14 @@ struct CartesianLimits {
 struct ArmModel {
   std::string name;
   std::array<DhRow, 7> joints;
-  DhRow flange;                    // fixed transform from joint 7 to the flange
+  DhRow flange;  // fixed transform from joint 7 to the flange
   JointLimits limits;
   CartesianLimits cartesian;
 
   static ArmModel panda();
-  Pose fk(const Joints& q) const;                  // T_base_flange
+  Pose fk(const Joints& q) const;                               // T_base_flange
   Pose fk(const Joints& q, std::array<Pose, 8>* frames) const;  // + every joint frame, flange last
-  Jacobian jacobian(const Joints& q) const;        // geometric, base frame, at the flange origin
+  Jacobian jacobian(const Joints& q) const;  // geometric, base frame, at the flange origin
   bool within_limits(const Joints& q, double margin_rad = 0) const;
 };
 

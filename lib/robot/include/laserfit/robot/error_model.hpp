@@ -12,13 +12,14 @@
 namespace laserfit::robot {
 
 struct ErrorModelSettings {
-  double length_min_mm = 0.5, length_max_mm = 5.0;     // |error| of every a and d, uniform, random sign
+  double length_min_mm = 0.5,
+         length_max_mm = 5.0;  // |error| of every a and d, uniform, random sign
   double angle_min_mrad = 2.0, angle_max_mrad = 25.0;  // |error| of every alpha and joint offset
   double repeatability_mm = 0.1;                       // per reached pose: isotropic, std per axis
   double repeatability_mrad = 0.1;                     //   and the same for orientation
-  double repeatability_corr_mm = 20.0;                 // the error of two poses this close is correlated
-                                                       // (exp(-distance / this)): a small move keeps it
-  void validate() const;                               // throws laserfit::Error on nonsense
+  double repeatability_corr_mm = 20.0;  // the error of two poses this close is correlated
+                                        // (exp(-distance / this)): a small move keeps it
+  void validate() const;                // throws laserfit::Error on nonsense
 };
 
 // The true arm: nominal parameters plus errors drawn from `seed` (deterministic).

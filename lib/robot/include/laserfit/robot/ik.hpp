@@ -8,12 +8,12 @@ namespace laserfit::robot {
 
 struct IkSettings {
   int max_iterations = 300;
-  double damping = 0.5;            // lambda of (J J^T + lambda^2 W), mm-scaled
-  double tolerance_mm = 1e-6;      // position error to stop at
-  double tolerance_rad = 1e-8;     // orientation error to stop at
-  double max_step_rad = 0.2;       // largest joint step per iteration
-  double nullspace_gain = 0.2;     // pull toward q_ref within the task's null space
-  Joints q_ref = Joints::Zero();   // preferred configuration (null-space target)
+  double damping = 0.5;           // lambda of (J J^T + lambda^2 W), mm-scaled
+  double tolerance_mm = 1e-6;     // position error to stop at
+  double tolerance_rad = 1e-8;    // orientation error to stop at
+  double max_step_rad = 0.2;      // largest joint step per iteration
+  double nullspace_gain = 0.2;    // pull toward q_ref within the task's null space
+  Joints q_ref = Joints::Zero();  // preferred configuration (null-space target)
   bool use_q_ref = false;
 };
 
@@ -24,6 +24,7 @@ struct IkResult {
   double error_mm = 0, error_rad = 0;
 };
 
-IkResult solve_ik(const ArmModel& arm, const Pose& T_base_flange, const Joints& q_start, const IkSettings& s = {});
+IkResult solve_ik(const ArmModel& arm, const Pose& T_base_flange, const Joints& q_start,
+                  const IkSettings& s = {});
 
 }  // namespace laserfit::robot

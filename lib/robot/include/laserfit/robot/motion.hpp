@@ -13,21 +13,22 @@ namespace laserfit::robot {
 
 struct MotionSettings {
   double rate_hz = 1000;
-  double speed_mm_s = 150;         // path speed (average over the minimum-jerk profile)
+  double speed_mm_s = 150;  // path speed (average over the minimum-jerk profile)
   double min_duration_s = 0.2;
-  double nullspace_gain = 2.0;     // 1/s: pull toward q_ref within the task's null space
-  double settle_s = 0.3;           // hold the goal this long at the end (the error converges)
-  double damping = 0.5;            // damped least squares (mm-scaled)
+  double nullspace_gain = 2.0;  // 1/s: pull toward q_ref within the task's null space
+  double settle_s = 0.3;        // hold the goal this long at the end (the error converges)
+  double damping = 0.5;         // damped least squares (mm-scaled)
 };
 
 struct MotionResult {
-  Joints q = Joints::Zero();       // joints at the end
-  bool reached = false;            // nominal flange within 1 um / 1e-5 rad of the goal
-  bool limits_ok = true;           // never clamped at a joint position limit
+  Joints q = Joints::Zero();  // joints at the end
+  bool reached = false;       // nominal flange within 1 um / 1e-5 rad of the goal
+  bool limits_ok = true;      // never clamped at a joint position limit
   double duration_s = 0, nominal_error_mm = 0;
 };
 
-MotionResult move_cartesian(const ArmModel& nominal, const Joints& q_start, const Pose& T_base_flange_goal,
-                            const Joints& q_ref, const MotionSettings& s = {});
+MotionResult move_cartesian(const ArmModel& nominal, const Joints& q_start,
+                            const Pose& T_base_flange_goal, const Joints& q_ref,
+                            const MotionSettings& s = {});
 
 }  // namespace laserfit::robot

@@ -16,8 +16,8 @@ enum class Method { Uniform, PoissonDisk };
 
 struct SamplingSettings {
   Method method = Method::Uniform;
-  size_t count = 0;               // number of points; or
-  double density_per_mm2 = 0.0;   // points per mm^2 of (visible) surface
+  size_t count = 0;              // number of points; or
+  double density_per_mm2 = 0.0;  // points per mm^2 of (visible) surface
   uint64_t seed = 1;
   double poisson_oversampling = 5.0;  // candidates per output point for sample elimination
 };
@@ -29,14 +29,15 @@ PointCloud sample_uniform(const TriMesh& mesh, const SamplingSettings& s);
 PointCloud sample_poisson_disk(const TriMesh& mesh, const SamplingSettings& s);
 
 struct ViewSettings {
-  std::vector<Pose> T_mesh_sensor;     // viewpoints: sensor poses in the mesh frame
+  std::vector<Pose> T_mesh_sensor;  // viewpoints: sensor poses in the mesh frame
   sensor::LineScannerGeometry geometry;
-  bool swept = true;                   // line scanner swept along its y axis (see line_scanner.hpp)
+  bool swept = true;  // line scanner swept along its y axis (see line_scanner.hpp)
 };
 
 // Surface points visible from at least one viewpoint (union of views), by the scanner's own
 // visibility rule, sampled as `s` asks over the visible part of the surface only.
-PointCloud sample_visible(const TriMesh& mesh, const ViewSettings& views, const SamplingSettings& s);
+PointCloud sample_visible(const TriMesh& mesh, const ViewSettings& views,
+                          const SamplingSettings& s);
 
 // Building block shared by the above: `n` uniform surface samples of blocks [first, first+n/B)
 // in a fixed order, independent of threading.

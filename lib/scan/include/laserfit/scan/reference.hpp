@@ -12,7 +12,7 @@ namespace laserfit::scan {
 
 Pose mid_sweep(const ScanSettings& s);  // sensor pose halfway along the sweep (base frame)
 
-PointCloud view_reference(const TriMesh& mesh, const Pose& T_base_object, const ScanSettings& s, size_t count,
-                          uint64_t seed);
+PointCloud view_reference(const TriMesh& mesh, const Pose& T_base_object, const ScanSettings& s,
+                          size_t count, uint64_t seed);
 
 }  // namespace laserfit::scan

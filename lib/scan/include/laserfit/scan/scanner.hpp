@@ -15,14 +15,14 @@ namespace laserfit::scan {
 
 struct SceneObject {
   std::string name;
-  std::string mesh_path;                // as given in the scene file
+  std::string mesh_path;  // as given in the scene file
   Pose T_base_object = Pose::Identity();
-  bool shiny = false;                   // specular / multipath outliers (metal parts)
-  TriMesh mesh;                         // mm, object frame
+  bool shiny = false;  // specular / multipath outliers (metal parts)
+  TriMesh mesh;        // mm, object frame
 };
 
 struct ScanScene {
-  std::string file;                     // where it was loaded from ("" when built in code)
+  std::string file;  // where it was loaded from ("" when built in code)
   std::vector<SceneObject> objects;
   ScanSettings settings;
   uint64_t seed = 1;

@@ -23,8 +23,8 @@ struct LineScannerGeometry {
   double max_camera_angle_deg = 80;     // surface seen more obliquely by the camera: no peak
 
   double z_mid() const { return 0.5 * (z_min_mm + z_max_mm); }
-  double half_fan_rad() const;          // fan half-angle from the emitter
-  double baseline_mm() const;           // emitter-to-camera distance along +y
+  double half_fan_rad() const;  // fan half-angle from the emitter
+  double baseline_mm() const;   // emitter-to-camera distance along +y
   double pitch_mid_mm() const { return width_mid_mm / (points_per_profile - 1); }
   // Unit direction of profile column `j`'s laser ray in the sensor frame (x-z laser plane),
   // equally spaced in angle across the fan.
