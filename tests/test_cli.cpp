@@ -91,6 +91,52 @@ TEST(Cli, ScanWritesCloudGroundTruthAndRawProfiles) {
   }
 }
 
+// Inputs that once killed the CAD parsers inside laserfit (tests/data/crashes/README.md): now
+// each is one line on stderr, exit 1 and no output file (or, should a parser accept one, a
+// normal import).
+TEST(Cli, CrashingInputsAreOneLineErrors) {
+  test::TempDir dir;
+  namespace fs = std::filesystem;
+  size_t refused = 0;
+  for (const auto& e : fs::directory_iterator(test::data("crashes"))) {
+    const std::string f = e.path().string(), ext = e.path().extension().string();
+    if (ext != ".step" && ext != ".ply" && ext != ".dae") continue;
+    const bool refcloud = e.path().filename().string().rfind("refcloud", 0) == 0;
+    const std::string out = dir / (refcloud ? "out.pcd" : "out.ply");
+    const auto r = run((refcloud ? "refcloud " + f + " -n 1000 -o " : "import " + f + " -o ") +
+                           out + " --timeout 30 --reader-memory 4096",
+                       dir);
+    SCOPED_TRACE(f + ": " + r.err);
+    ASSERT_TRUE(r.code == 0 || r.code == 1);
+    if (r.code == 1) {
+      ++refused;
+      EXPECT_EQ(lines(r.err), 1u);
+      EXPECT_EQ(r.err.rfind("laserfit ", 0), 0u);
+      EXPECT_NE(r.err.find(f), std::string::npos);  // names the file
+      EXPECT_FALSE(fs::exists(out));
+    }
+    fs::remove(out);
+  }
+  EXPECT_GE(refused, 6u);  // the DAE may import (the parser is cut off or not); the rest cannot
+}
+
+TEST(Cli, ParserLimitsAreOneLineErrors) {
+  test::TempDir dir;
+  const std::string step = test::data("o2ac/02-PANEL.step").string(), out = dir / "o.ply";
+  auto r = run("import " + step + " --timeout 0.001 -o " + out, dir);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.err, "laserfit import: error: " + step +
+                       ": the STEP reader took longer than 0.001 s (raise --timeout if the file "
+                       "is just large)\n");
+  // Usage errors: one line, exit 2, nothing attempted.
+  for (const char* args : {"refcloud x.ply -n -5 -o y.pcd", "refcloud x.ply --density -1 -o y.pcd",
+                           "import x.step --timeout -1 -o y.ply", "import"}) {
+    r = run(args, dir);
+    EXPECT_EQ(r.code, 2) << args;
+    EXPECT_EQ(lines(r.err), 1u) << r.err;
+  }
+}
+
 TEST(Cli, BadInputOneLineNonZeroNoOutput) {
   test::TempDir dir;
   test::write_text(dir / "trunc.stl", test::read_bytes(kPanel).substr(0, 700));

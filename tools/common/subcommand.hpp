@@ -15,14 +15,17 @@ struct Command {
   std::function<int()> run;
 };
 
-// "<program> <subcommand>: error: <what>" and exit code 1 on any error; CLI11's own codes for
-// --help and usage errors.
+// "<program> <subcommand>: error: <what>" and exit code 1 on any error; a usage error is one line
+// and exit code 2; --help and --version exit 0.
 inline int run_subcommand(CLI::App& app, const std::vector<Command>& commands, int argc,
                           char** argv, const std::string& program) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    // One line, as for any other bad input; usage errors exit 2.
+    std::cerr << program << ": error: " << e.what() << " (see --help)\n";
+    return 2;
   }
   for (const auto& c : commands) {
     if (!c.app->parsed()) continue;

@@ -11,7 +11,7 @@ namespace {
 
 struct Options {
   std::string input, output, unit = "auto", part;
-  double deflection = 0.01, angular = 0.2;
+  double deflection = 0.01, angular = 0.2, timeout = 60.0, memory = 8192.0;
   bool no_repair = false, fill_holes = false, no_self_check = false, json = false;
 };
 
@@ -35,6 +35,8 @@ int run(const Options& o) {
   s.deflection_mm = o.deflection;
   s.angular_deflection_rad = o.angular;
   s.part = o.part;
+  s.reader.timeout_s = o.timeout;
+  s.reader.memory_mib = o.memory;
   s.repair.repair = !o.no_repair;
   s.repair.fill_holes = o.fill_holes;
   s.repair.check_self_intersections = !o.no_self_check;
@@ -109,6 +111,7 @@ Command add_import(CLI::App& root) {
       ->capture_default_str();
   app->add_option("--part", o->part,
                   "import only the part/node with this name (default: merge all)");
+  add_reader_limits(*app, o->timeout, o->memory);
   app->add_flag("--no-repair", o->no_repair, "only check and report; write the mesh as read");
   app->add_flag("--fill-holes", o->fill_holes, "triangulate open boundaries");
   app->add_flag("--no-self-check", o->no_self_check,

@@ -14,8 +14,8 @@ namespace {
 
 struct Options {
   std::string input, output, unit = "auto", method = "uniform";
-  size_t count = 0;
-  double density = 0.0, max_incidence = 80.0, oversampling = 5.0;
+  long long count = 0;
+  double density = 0.0, max_incidence = 80.0, oversampling = 5.0, timeout = 60.0, memory = 8192.0;
   uint64_t seed = 1;
   std::vector<std::string> views, view_dirs;
   bool static_sensor = false, json = false;
@@ -50,11 +50,13 @@ int run(const Options& o) {
   const auto t0 = std::chrono::steady_clock::now();
   cad::ImportSettings is;
   is.unit = parse_unit(o.unit);
+  is.reader.timeout_s = o.timeout;
+  is.reader.memory_mib = o.memory;
   const auto imported = cad::import_cad(o.input, is);
   const TriMesh& mesh = imported.mesh;
 
   sampling::SamplingSettings s;
-  s.count = o.count;
+  s.count = static_cast<size_t>(o.count);
   s.density_per_mm2 = o.density;
   s.seed = o.seed;
   s.poisson_oversampling = o.oversampling;
@@ -126,8 +128,11 @@ Command add_refcloud(CLI::App& root) {
       ->required();
   app->add_option("-o,--output", o->output, "output cloud (.pcd binary or .ply), mm, with normals")
       ->required();
-  auto* count = app->add_option("-n,--count", o->count, "number of points");
-  auto* density = app->add_option("--density", o->density, "points per mm^2 of (visible) surface");
+  auto* count = app->add_option("-n,--count", o->count, "number of points (1 to 100 000 000)")
+                    ->check(CLI::Range(1LL, 100'000'000LL));
+  auto* density =
+      app->add_option("--density", o->density, "points per mm^2 of (visible) surface (> 0)")
+          ->check(CLI::PositiveNumber);
   count->excludes(density);
   app->add_option("--method", o->method, "uniform | poisson (Poisson-disk, sample elimination)")
       ->capture_default_str();
@@ -142,11 +147,14 @@ Command add_refcloud(CLI::App& root) {
       "viewpoint from a direction 'x y z' (mesh frame): the sensor looks back along it "
       "at the bbox centre, the part's near face 10% into the measuring range. Repeatable");
   app->add_option("--max-incidence", o->max_incidence, "incidence cut-off for views (deg)")
+      ->check(CLI::Range(0.0, 90.0))
       ->capture_default_str();
   app->add_flag("--static", o->static_sensor,
                 "views are static (emitter at the sensor origin), not swept");
   app->add_option("--oversampling", o->oversampling, "Poisson-disk candidates per point")
+      ->check(CLI::Range(1.0, 100.0))
       ->capture_default_str();
+  add_reader_limits(*app, o->timeout, o->memory);
   app->add_option("--unit", o->unit, "unit of the mesh file (as for import)")
       ->capture_default_str();
   app->add_flag("--json", o->json, "machine-readable result on stdout");

@@ -31,6 +31,19 @@ inline void emit(bool json, const io::Json& j, const std::string& human) {
     std::cout << human;
 }
 
+// --timeout and --reader-memory: the limits of the child process a CAD/mesh parser runs in.
+inline void add_reader_limits(CLI::App& app, double& timeout_s, double& memory_mib) {
+  app.add_option("--timeout", timeout_s,
+                 "seconds the CAD/mesh parser may take before the file is refused (0: no limit)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option(
+         "--reader-memory", memory_mib,
+         "MiB of memory the CAD/mesh parser may use before the file is refused (0: no limit)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+}
+
 // "a:b" -> a, a+1, ..., b-1 (repetitions of a benchmark's cells, as tuning splits them).
 inline std::vector<int> parse_range(const std::string& text, const std::string& what) {
   int a = 0, b = 0;

@@ -98,8 +98,9 @@ GeneratedModel generate_model(const std::string& model, const std::map<std::stri
   out.deflection_mm = entry->deflection_mm;
   for (const auto& p : entry->info.params) out.params[p.name] = p.value;
   for (const auto& [name, value] : ov) {
+    const std::string& wanted = name;  // C++17: a structured binding cannot be captured
     auto it = std::find_if(entry->info.params.begin(), entry->info.params.end(),
-                           [&](const ModelParam& p) { return p.name == name; });
+                           [&](const ModelParam& p) { return p.name == wanted; });
     if (it == entry->info.params.end()) throw Error(model + ": unknown parameter '" + name + "'");
     if (!(value >= it->min && value <= it->max)) {
       std::ostringstream m;

@@ -1,12 +1,14 @@
 #include "laserfit/cad/import.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
 
 #include "laserfit/core/error.hpp"
+#include "laserfit/io/header_check.hpp"
 #include "laserfit/io/util.hpp"
 
 namespace laserfit::cad {
@@ -14,6 +16,15 @@ namespace {
 
 bool is_brep(const std::string& ext) {
   return ext == "step" || ext == "stp" || ext == "iges" || ext == "igs";
+}
+
+// "the STEP reader", "the IGES reader", "the assimp OBJ reader": what a message names.
+std::string reader_name(const std::string& format) {
+  std::string upper = format;
+  for (auto& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  if (format == "step" || format == "stp") return "the STEP reader";
+  if (format == "iges" || format == "igs") return "the IGES reader";
+  return "the assimp " + (upper.empty() ? std::string("mesh") : upper) + " reader";
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -53,26 +64,34 @@ void resolve_unit(const ImportSettings& s, const RawMesh& raw, ImportResult& r) 
 
 }  // namespace
 
-ImportResult import_cad(const std::string& path, const ImportSettings& s) {
+ImportResult import_cad_uncached(const std::string& path, const ImportSettings& s) {
   namespace fs = std::filesystem;
   if (!fs::exists(path)) throw Error(path, "no such file");
   if (!fs::is_regular_file(path)) throw Error(path, "not a regular file");
   if (fs::file_size(path) == 0) throw Error(path, "file is empty");
   if (!(s.deflection_mm > 0) || !std::isfinite(s.deflection_mm))
     throw Error(path, "--deflection must be a positive length in mm");
+  if (!(s.angular_deflection_rad > 0) || !std::isfinite(s.angular_deflection_rad))
+    throw Error(path, "--angular-deflection must be a positive angle in rad");
 
   ImportResult r;
   r.format = io::lower_extension(path);
   if (!r.format.empty()) r.format.erase(0, 1);  // "step", not ".step"
+  io::check_mesh_header(path, "." + r.format, s.max_triangles);
   const auto t0 = std::chrono::steady_clock::now();
   RawMesh raw;
   if (is_brep(r.format)) {
     r.reader = "opencascade";
-    raw = read_with_occt(path, s);
+    raw = read_isolated(path, reader_name(r.format), s.reader,
+                        [&] { return read_with_occt(path, s); });
   } else {
     r.reader = "assimp";
-    raw = read_with_assimp(path, s.part);
+    raw = read_isolated(path, reader_name(r.format), s.reader,
+                        [&] { return read_with_assimp(path, s.part); });
   }
+  if (raw.mesh.faces.size() > s.max_triangles)
+    throw Error(path, std::to_string(raw.mesh.faces.size()) +
+                          " triangles, more than the limit of " + std::to_string(s.max_triangles));
   r.read_seconds = seconds_since(t0);
   r.parts = raw.parts;
   r.warnings = raw.warnings;

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "laserfit/cad/isolate.hpp"
 #include "laserfit/cad/repair.hpp"
 #include "laserfit/core/mesh.hpp"
 #include "laserfit/core/units.hpp"
@@ -16,6 +17,8 @@ struct ImportSettings {
   double angular_deflection_rad = 0.2;  // STEP/IGES angular deflection (rad)
   std::string part;                     // select one part/node by name; empty: merge all parts
   RepairSettings repair;
+  IsolationLimits reader;             // the parser runs in a child process under these limits
+  size_t max_triangles = 50'000'000;  // larger meshes are refused (a 1 GB STL holds 20 M)
 };
 
 struct ImportResult {
@@ -31,16 +34,14 @@ struct ImportResult {
   double read_seconds = 0.0, repair_seconds = 0.0;
 };
 
+// Results are memoised per process by the file's bytes and the settings (the last 32 files): a
+// benchmark or a scene list that names one mesh many times reads and repairs it once. Errors
+// are not memoised.
 ImportResult import_cad(const std::string& path, const ImportSettings& settings = {});
+ImportResult import_cad_uncached(const std::string& path, const ImportSettings& settings = {});
 
-// Raw readers (no unit resolution, no repair); used by import_cad and the tests.
-struct RawMesh {
-  TriMesh mesh;
-  std::vector<std::string> parts;
-  double declared_to_mm = 0.0;  // > 0 when the file declares its unit (scale to mm)
-  std::string declared_unit;    // as written in the file, e.g. "MM", "meter=0.001", "m (glTF)"
-  std::vector<std::string> warnings;
-};
+// Raw readers (no unit resolution, no repair, no isolation); import_cad runs them through
+// read_isolated.
 RawMesh read_with_assimp(const std::string& path, const std::string& part);
 RawMesh read_with_occt(const std::string& path, const ImportSettings& settings);
 
