@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "laserfit/core/error.hpp"
 #include "laserfit/io/cloud_io.hpp"
+#include "laserfit/io/header_check.hpp"
 #include "laserfit/io/json.hpp"
 #include "test_util.hpp"
 
@@ -78,6 +80,61 @@ TEST(CloudIo, RefusesBadFiles) {
   EXPECT_THROW(io::write_cloud(dir / "x.xyz", small_cloud(false)), Error);
   EXPECT_THROW(io::write_cloud(dir / "empty_out.pcd", PointCloud{}), Error);
   EXPECT_FALSE(std::filesystem::exists(dir / "empty_out.pcd"));
+}
+
+// Headers that would make PCL (or assimp) crash or allocate without bound are refused before any
+// parser runs, with the reason; the message is checked word for word where it carries a number.
+TEST(HeaderCheck, RefusesImplausibleHeadersUpFront) {
+  test::TempDir dir;
+  const std::string pcd = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {pcd + "WIDTH 1000000000000\nHEIGHT 1\nPOINTS 1000000000000\nDATA binary\n",
+       "header claims 1000000000000 points, more than the limit of 200000000"},
+      {"VERSION 0.7\nFIELDS x y z\nSIZE 4 4\nTYPE F F F\nWIDTH 1\nPOINTS 1\nDATA ascii\n1 2 3\n",
+       "SIZE lists 2 entries for 3 fields"},
+      {pcd + "WIDTH 2\nHEIGHT 2\nPOINTS 3\nDATA ascii\n1 2 3\n",
+       "WIDTH x HEIGHT does not equal POINTS"},
+      {pcd + "WIDTH 100\nHEIGHT 1\nPOINTS 100\nDATA binary\n" + std::string(12 * 99, '\0'),
+       "truncated: binary data shorter than POINTS"},
+      {pcd + "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA binary_compressed\n" +
+           std::string("\x04\x00\x00\x00\x00\x00\x00\x10zzzz", 12),
+       "compressed block sizes do not match the header or the file"},
+      {pcd + "WIDTH -5\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n", "bad WIDTH line"},
+  };
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const std::string f = dir / ("c" + std::to_string(i) + ".pcd");
+    test::write_text(f, cases[i].first);
+    try {
+      io::read_cloud(f);
+      ADD_FAILURE() << "accepted case " << i;
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()), f + ": " + cases[i].second);
+    }
+  }
+  const std::string ply = dir / "big.ply";
+  test::write_text(ply,
+                   "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000\nproperty "
+                   "float x\nproperty float y\nproperty float z\nend_header\n");
+  EXPECT_THROW(io::read_cloud(ply), Error);
+  EXPECT_THROW(io::check_mesh_header(ply, ".ply", 50'000'000), Error);
+  // A binary STL whose count claims 10^9 triangles: refused on its count, before assimp.
+  std::string stl(84, '\0');
+  const uint32_t n = 1'000'000'000;
+  std::memcpy(stl.data() + 80, &n, 4);
+  test::write_text(dir / "big.stl", stl + std::string(50, '\0'));
+  try {
+    io::check_mesh_header(dir / "big.stl", ".stl", 50'000'000);
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), (dir / "big.stl") +
+                                         ": header claims 1000000000 triangles, more "
+                                         "than the limit of 50000000");
+  }
+  // An ASCII STL ("solid ...") is not mistaken for a binary one.
+  test::write_text(dir / "a.stl",
+                   "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
+                   "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n");
+  EXPECT_NO_THROW(io::check_mesh_header(dir / "a.stl", ".stl", 50'000'000));
 }
 
 TEST(Json, PoseRoundTrip) {

@@ -10,6 +10,7 @@
 
 #include "laserfit/core/error.hpp"
 #include "laserfit/io/cloud_io.hpp"
+#include "laserfit/io/header_check.hpp"
 #include "laserfit/io/util.hpp"
 
 namespace laserfit::io {
@@ -21,39 +22,6 @@ int float_field(const pcl::PCLPointCloud2& c, const std::string& name) {
     if (f.name == name && f.datatype == pcl::PCLPointField::FLOAT32 && f.count == 1)
       return static_cast<int>(f.offset);
   return -1;
-}
-
-// PCL's readers crash on some malformed headers (e.g. a text file without FIELDS); look at the
-// header ourselves first and refuse anything that is not plausibly a PCD / PLY file.
-void check_header(const std::string& path, const std::string& ext) {
-  std::ifstream in(path, std::ios::binary);
-  std::string line;
-  if (ext == ".ply") {
-    if (!std::getline(in, line) || line.rfind("ply", 0) != 0)
-      throw Error(path, "not a PLY file (no 'ply' magic)");
-    for (int i = 0; i < 10000 && std::getline(in, line); ++i)
-      if (line.rfind("end_header", 0) == 0) return;
-    throw Error(path, "PLY header has no end_header (truncated or corrupt)");
-  }
-  bool fields = false, width = false, points = false;
-  for (int i = 0; i < 10000 && std::getline(in, line); ++i) {
-    if (line.empty() || line[0] == '#') continue;
-    const std::string key = line.substr(0, line.find(' '));
-    if (key == "FIELDS")
-      fields = true;
-    else if (key == "WIDTH")
-      width = true;
-    else if (key == "POINTS")
-      points = true;
-    else if (key == "DATA") {
-      if (fields && width && points) return;
-      break;
-    } else if (key != "VERSION" && key != "SIZE" && key != "TYPE" && key != "COUNT" &&
-               key != "HEIGHT" && key != "VIEWPOINT") {
-      throw Error(path, "not a PCD file (unexpected header line '" + line.substr(0, 40) + "')");
-    }
-  }
-  throw Error(path, "PCD header incomplete (needs FIELDS, WIDTH, POINTS and DATA)");
 }
 
 }  // namespace
@@ -82,7 +50,7 @@ PointCloud read_cloud(const std::string& path) {
   if (!fs::is_regular_file(path)) throw Error(path, "not a regular file");
   if (fs::file_size(path) == 0) throw Error(path, "file is empty");
   const std::string ext = lower_extension(path);
-  if (ext == ".pcd" || ext == ".ply") check_header(path, ext);
+  if (ext == ".pcd" || ext == ".ply") check_cloud_header(path, ext);
   // PCL reports problems on its console; we report them once, as our own error line.
   pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
   pcl::PCLPointCloud2 blob;

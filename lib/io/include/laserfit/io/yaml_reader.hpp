@@ -26,6 +26,7 @@ struct YamlReader {
   void only(const YAML::Node& n, const std::string& where, std::set<std::string> keys) const {
     if (!n.IsMap()) fail(where, "expected a mapping");
     for (const auto& kv : n) {
+      if (!kv.first.IsScalar()) fail(where, "a key that is not a plain name");
       const auto k = kv.first.as<std::string>();
       if (!keys.count(k)) fail(where, "unknown key '" + k + "'");
     }
@@ -114,5 +115,17 @@ struct YamlReader {
     }
   }
 };
+
+// Runs a loader and turns any yaml-cpp exception it lets through (a list where a name was
+// expected, a conversion that does not apply) into laserfit's one-line error naming the file:
+// a configuration file is user input, and no shape of it may end the program another way.
+template <typename F>
+auto guard_yaml(const std::string& file, F&& load) -> decltype(load()) {
+  try {
+    return load();
+  } catch (const YAML::Exception& e) {
+    throw Error(file, std::string("not a valid file: ") + e.what());
+  }
+}
 
 }  // namespace laserfit::io
