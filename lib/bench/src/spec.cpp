@@ -93,7 +93,7 @@ Target read_target(const YamlReader& R, const YAML::Node& t, const std::string& 
 
 }  // namespace
 
-Benchmark load_benchmark(const std::string& path) {
+static Benchmark load_benchmark_unguarded(const std::string& path) {
   const YamlReader R{path};
   const YAML::Node root = R.load();
   R.only(root, "benchmark",
@@ -177,6 +177,10 @@ std::vector<int> scene_indices(const Benchmark& b, const std::vector<std::string
     idx.push_back(int(i));
   }
   return idx;
+}
+
+Benchmark load_benchmark(const std::string& path) {
+  return io::guard_yaml(path, [&] { return load_benchmark_unguarded(path); });
 }
 
 }  // namespace laserfit::bench

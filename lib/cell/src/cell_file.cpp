@@ -42,7 +42,7 @@ std::string axis_name(const YamlReader& R, const YAML::Node& n, const std::strin
 
 }  // namespace
 
-CellSettings load_cell(const std::string& path) {
+static CellSettings load_cell_unguarded(const std::string& path) {
   const YamlReader R{path};
   const YAML::Node root = R.load();
   R.only(root, "cell",
@@ -167,6 +167,10 @@ CellSettings load_cell(const std::string& path) {
     c.part_weak_translation = axis_name(R, w, "part_translation", "weak");
   }
   return c;
+}
+
+CellSettings load_cell(const std::string& path) {
+  return io::guard_yaml(path, [&] { return load_cell_unguarded(path); });
 }
 
 }  // namespace laserfit::cell

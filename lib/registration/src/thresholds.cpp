@@ -72,7 +72,7 @@ void Thresholds::apply(RegistrationSettings& s, const std::string& object,
   s.trust.min_overlap = min_overlap;
 }
 
-Thresholds load_thresholds(const std::string& path) {
+static Thresholds load_thresholds_unguarded(const std::string& path) {
   const io::YamlReader R{path};
   const YAML::Node root = R.load();
   R.only(root, "thresholds", {"schema", "provenance", "registration", "objects"});
@@ -172,6 +172,10 @@ std::string thresholds_yaml(const Thresholds& t) {
 
 void write_thresholds(const std::string& path, const Thresholds& t) {
   write_file_atomic(path, thresholds_yaml(t));
+}
+
+Thresholds load_thresholds(const std::string& path) {
+  return io::guard_yaml(path, [&] { return load_thresholds_unguarded(path); });
 }
 
 }  // namespace laserfit::registration

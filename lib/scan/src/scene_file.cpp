@@ -107,7 +107,7 @@ void read_motion(const Reader& R, const YAML::Node& n, MotionSettings& s) {
 
 }  // namespace
 
-ScanScene load_scene(const std::string& path) {
+static ScanScene load_scene_unguarded(const std::string& path) {
   namespace fs = std::filesystem;
   if (!fs::exists(path)) throw Error(path, "no such file");
   YAML::Node root;
@@ -155,6 +155,10 @@ ScanScene load_scene(const std::string& path) {
   }
   sc.settings.validate(path);
   return sc;
+}
+
+ScanScene load_scene(const std::string& path) {
+  return io::guard_yaml(path, [&] { return load_scene_unguarded(path); });
 }
 
 }  // namespace laserfit::scan
