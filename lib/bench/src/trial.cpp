@@ -77,8 +77,9 @@ Pose perturbed(const Pose& nominal, double deg, double mm, std::mt19937_64& g,
                const Eigen::Vector3d& pivot = Eigen::Vector3d::Zero()) {
   auto unit_ball = [&] {
     Eigen::Vector3d v;
-    do v = Eigen::Vector3d(uniform01(g), uniform01(g), uniform01(g)) * 2 - Eigen::Vector3d::Ones();
-    while (v.squaredNorm() > 1 || v.squaredNorm() < 1e-6);
+    do {  // z, y, x: GCC's argument order, as recorded; sequenced for any compiler
+      for (int i = 2; i >= 0; --i) v[i] = uniform01(g) * 2 - 1;
+    } while (v.squaredNorm() > 1 || v.squaredNorm() < 1e-6);
     return v;
   };
   const Eigen::Vector3d axis = unit_ball().normalized();

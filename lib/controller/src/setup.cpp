@@ -43,7 +43,9 @@ SimSetup prepare_setting(const cell::Cell& c, int k, const ControllerSettings& s
   // Start configurations: the i-th is i * step from the insertion pose (up and aside, seeded).
   std::mt19937_64 g = block_rng(seed, 0x57A87, uint64_t(k));
   for (int i = 1; i <= cs.start_configs; ++i) {
-    Eigen::Vector3d dir(2 * uniform01(g) - 1, 2 * uniform01(g) - 1, 1.0);
+    const double dy = 2 * uniform01(g) - 1;  // drawn first: GCC's argument order, as recorded
+    const double dx = 2 * uniform01(g) - 1;
+    const Eigen::Vector3d dir(dx, dy, 1.0);
     Pose start = su.p_ins;
     start.translation() += dir.normalized() * (i * cs.start_step_mm);
     su.q_start.push_back(ik_or_throw(c.nominal, start, su.q_taught,

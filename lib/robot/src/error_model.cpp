@@ -61,7 +61,11 @@ Pose Repeatability::reach(const Pose& T, std::mt19937_64& g) {
 }
 
 Pose with_repeatability(const Pose& T, const ErrorModelSettings& s, std::mt19937_64& g) {
-  const Eigen::Vector3d dt(gauss(g), gauss(g), gauss(g)), dr(gauss(g), gauss(g), gauss(g));
+  // One draw per statement: the order of a constructor's arguments is unspecified, and the
+  // same seed must give the same arm with any compiler (this is GCC's order, as recorded).
+  Eigen::Vector3d dt, dr;
+  for (int i = 2; i >= 0; --i) dt[i] = gauss(g);
+  for (int i = 2; i >= 0; --i) dr[i] = gauss(g);
   Pose d = Pose::Identity();
   d.translation() = dt * s.repeatability_mm;
   const Eigen::Vector3d r = dr * (s.repeatability_mrad * 1e-3);

@@ -16,7 +16,7 @@ namespace {
 // Uniform grid over the candidates with cells of the neighbourhood diameter 2 r_max.
 class Grid {
  public:
-  Grid(const std::vector<Eigen::Vector3f>& pts, float cell) : pts_(pts), cell_(cell) {
+  Grid(const std::vector<Eigen::Vector3f>& pts, float cell) : cell_(cell) {
     for (size_t i = 0; i < pts.size(); ++i) cells_[key(pts[i])].push_back(static_cast<int>(i));
   }
   template <typename F>
@@ -40,7 +40,6 @@ class Grid {
            (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) | uint64_t(uint32_t(c.z()) & 0x1FFFFF);
   }
   uint64_t key(const Eigen::Vector3f& p) const { return pack(coord(p)); }
-  const std::vector<Eigen::Vector3f>& pts_;
   float cell_;
   std::unordered_map<uint64_t, std::vector<int>> cells_;
 };
