@@ -30,9 +30,9 @@ RawMesh tetra() {
 }
 
 // The message read_isolated throws for `read`, or "" when it returns.
-std::string error_of(const std::function<RawMesh()>& read, cad::IsolationLimits limits = {}) {
+std::string error_of(const std::function<RawMesh()>& read, IsolationLimits limits = {}) {
   try {
-    read_isolated("part.step", "the STEP reader", limits, read);
+    cad::read_isolated("part.step", "the STEP reader", limits, read);
   } catch (const Error& e) {
     return e.what();
   }
@@ -75,7 +75,7 @@ TEST(Isolate, TheReadersOwnErrorPassesThrough) {
 }
 
 TEST(Isolate, ARunawayIsStoppedAtTheTimeout) {
-  cad::IsolationLimits limits;
+  IsolationLimits limits;
   limits.timeout_s = 0.3;
   const auto t0 = std::chrono::steady_clock::now();
   const std::string e = error_of(
@@ -92,7 +92,7 @@ TEST(Isolate, ARunawayIsStoppedAtTheTimeout) {
 }
 
 TEST(Isolate, UnboundedAllocationIsStoppedAtTheMemoryLimit) {
-  cad::IsolationLimits limits;
+  IsolationLimits limits;
   limits.memory_mib = 256;
   const std::string e = error_of(
       []() -> RawMesh {
@@ -105,10 +105,10 @@ TEST(Isolate, UnboundedAllocationIsStoppedAtTheMemoryLimit) {
 }
 
 TEST(Isolate, OffMeansInProcess) {
-  cad::IsolationLimits limits;
+  IsolationLimits limits;
   limits.isolate = false;
-  EXPECT_THROW(read_isolated("part.step", "the STEP reader", limits,
-                             []() -> RawMesh { throw Error("in process"); }),
+  EXPECT_THROW(cad::read_isolated("part.step", "the STEP reader", limits,
+                                  []() -> RawMesh { throw Error("in process"); }),
                Error);
 }
 

@@ -105,4 +105,11 @@ RawMesh decode_raw_mesh(const std::string& bytes, const std::string& path) {
   return raw;
 }
 
+RawMesh read_isolated(const std::string& path, const std::string& reader,
+                      const IsolationLimits& limits, const std::function<RawMesh()>& read) {
+  if (!limits.isolate) return read();
+  return decode_raw_mesh(
+      run_isolated(path, reader, limits, [&] { return encode_raw_mesh(read()); }), path);
+}
+
 }  // namespace laserfit::cad

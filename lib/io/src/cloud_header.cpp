@@ -156,9 +156,15 @@ void check_ply(const std::string& path, size_t file_size, size_t limit, const ch
   if (!lines.next(line) || line != "ply") throw Error(path, "not a PLY file (no 'ply' magic)");
   std::string format;
   size_t min_bytes = 0, elements_count = 0, element_count = 0;  // a lower bound of the body's size
-  bool ended = false;
+  size_t cols = 0, rows = 0, vertices = 0;  // PCL's organized-cloud convention (obj_info)
+  bool ended = false, organized = false;
   while (!ended && lines.next(line)) {
     const auto w = words(line);
+    if (w.size() == 3 && w[0] == "obj_info" && (w[1] == "num_cols" || w[1] == "num_rows")) {
+      if (!parse_count(w[2], w[1] == "num_cols" ? cols : rows))
+        throw Error(path, "bad obj_info " + w[1] + " line");
+      organized = true;
+    }
     if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
     if (w[0] == "format") {
       if (w.size() != 3 ||
@@ -168,6 +174,7 @@ void check_ply(const std::string& path, size_t file_size, size_t limit, const ch
     } else if (w[0] == "element") {
       if (w.size() != 3 || !parse_count(w[2], element_count)) throw Error(path, "bad element line");
       check_points(path, element_count, limit, what);
+      if (w[1] == "vertex") vertices = element_count;
       if (++elements_count > kMaxFields) throw Error(path, "too many PLY elements");
     } else if (w[0] == "property") {
       if (elements_count == 0) throw Error(path, "a PLY property before any element");
@@ -186,6 +193,11 @@ void check_ply(const std::string& path, size_t file_size, size_t limit, const ch
   }
   if (!ended) throw Error(path, "PLY header has no end_header (truncated or corrupt)");
   if (format.empty()) throw Error(path, "PLY header has no format line");
+  // PCL asserts (aborts) when an organized PLY's grid does not hold its vertices.
+  if (organized && (cols > vertices || rows > vertices || cols * rows != vertices))
+    throw Error(path, "obj_info num_cols x num_rows (" + std::to_string(cols) + " x " +
+                          std::to_string(rows) + ") does not equal the " +
+                          std::to_string(vertices) + " vertices");
   const std::streamoff at = lines.in.tellg();
   const size_t left = at < 0 ? 0 : file_size - static_cast<size_t>(at);
   if (min_bytes > left)

@@ -8,7 +8,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cloud_codec.hpp"
 #include "laserfit/core/error.hpp"
+#include "laserfit/core/isolate.hpp"
 #include "laserfit/io/cloud_io.hpp"
 #include "laserfit/io/header_check.hpp"
 #include "laserfit/io/util.hpp"
@@ -44,13 +46,11 @@ std::map<std::string, std::string> read_header_metadata(const std::string& path)
   return meta;
 }
 
-PointCloud read_cloud(const std::string& path) {
-  namespace fs = std::filesystem;
-  if (!fs::exists(path)) throw Error(path, "no such file");
-  if (!fs::is_regular_file(path)) throw Error(path, "not a regular file");
-  if (fs::file_size(path) == 0) throw Error(path, "file is empty");
-  const std::string ext = lower_extension(path);
-  if (ext == ".pcd" || ext == ".ply") check_cloud_header(path, ext);
+namespace {
+
+// PCL's reader and the conversion to laserfit's cloud; runs in the isolated child (PCL's readers
+// have been seen to corrupt their own memory on crafted binary data behind a valid header).
+PointCloud read_with_pcl(const std::string& path, const std::string& ext) {
   // PCL reports problems on its console; we report them once, as our own error line.
   pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
   pcl::PCLPointCloud2 blob;
@@ -58,10 +58,8 @@ PointCloud read_cloud(const std::string& path) {
   try {
     if (ext == ".pcd")
       rc = pcl::PCDReader().read(path, blob);
-    else if (ext == ".ply")
-      rc = pcl::PLYReader().read(path, blob);
     else
-      throw Error(path, "unsupported cloud format '" + ext + "' (use .pcd or .ply)");
+      rc = pcl::PLYReader().read(path, blob);
   } catch (const pcl::PCLException& e) {
     throw Error(path, std::string("cannot parse: ") + e.what());
   }
@@ -98,6 +96,23 @@ PointCloud read_cloud(const std::string& path) {
     if (normals) c.normals[i] = {get(i, onx), get(i, ony), get(i, onz)};
     if (olabel >= 0) std::memcpy(&c.labels[i], &blob.data[i * blob.point_step + olabel], 4);
   }
+  return c;
+}
+
+}  // namespace
+
+PointCloud read_cloud(const std::string& path) {
+  namespace fs = std::filesystem;
+  if (!fs::exists(path)) throw Error(path, "no such file");
+  if (!fs::is_regular_file(path)) throw Error(path, "not a regular file");
+  if (fs::file_size(path) == 0) throw Error(path, "file is empty");
+  const std::string ext = lower_extension(path);
+  if (ext != ".pcd" && ext != ".ply")
+    throw Error(path, "unsupported cloud format '" + ext + "' (use .pcd or .ply)");
+  check_cloud_header(path, ext);
+  const std::string reader = ext == ".pcd" ? "the PCD reader (PCL)" : "the PLY reader (PCL)";
+  PointCloud c = decode_cloud(
+      run_isolated(path, reader, {}, [&] { return encode_cloud(read_with_pcl(path, ext)); }), path);
   c.metadata = read_header_metadata(path);
   return c;
 }

@@ -1,5 +1,5 @@
 // Runs a third-party parser in a forked child: see isolate.hpp for why. The child writes its
-// answer (a status byte, then the encoded mesh or an error message) to an anonymous memory file
+// answer (a status byte, then the encoded result or an error message) to an anonymous memory file
 // it shares with the parent, and leaves with _exit so that nothing of the parent's state (atexit
 // handlers, stdio buffers, thread pools) runs twice.
 #include <fcntl.h>
@@ -18,8 +18,8 @@
 #include <sstream>
 #include <thread>
 
-#include "laserfit/cad/isolate.hpp"
 #include "laserfit/core/error.hpp"
+#include "laserfit/core/isolate.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
 #define LASERFIT_ASAN 1
@@ -29,10 +29,10 @@
 #endif
 #endif
 
-namespace laserfit::cad {
+namespace laserfit {
 namespace {
 
-enum class Reply : char { Mesh = 'M', Error = 'E' };
+enum class Reply : char { Result = 'R', Error = 'E' };
 
 bool write_all(int fd, const std::string& bytes) {
   size_t done = 0;
@@ -78,7 +78,7 @@ std::string seconds(double s) {
 
 // The child: limits, silence, read, answer, _exit. Never returns.
 [[noreturn]] void child(int fd, const std::string& path, const std::string& reader,
-                        const IsolationLimits& limits, const std::function<RawMesh()>& read) {
+                        const IsolationLimits& limits, const std::function<std::string()>& read) {
   const rlimit no_core{0, 0};
   ::setrlimit(RLIMIT_CORE, &no_core);
   // A crash is the parent's to report: no sanitizer or debugger handler of the parent's runs.
@@ -97,18 +97,19 @@ std::string seconds(double s) {
   if (null >= 0) ::dup2(null, STDOUT_FILENO), ::dup2(null, STDERR_FILENO);
   std::string answer;
   try {
-    answer = static_cast<char>(Reply::Mesh) + encode_raw_mesh(read());
+    answer = static_cast<char>(Reply::Result) + read();
   } catch (const std::bad_alloc&) {
-    answer = static_cast<char>(Reply::Error) + path + ": " + reader + " ran out of memory (limit " +
-             seconds(limits.memory_mib) + " MiB; raise --reader-memory if the file is just large)";
+    answer = static_cast<char>(Reply::Error) + path + ": " + reader +
+             " could not allocate memory (a corrupt size in the file, or more than its limit of " +
+             seconds(limits.memory_mib) + " MiB)";
   } catch (const std::exception& e) {
     // Parsers catch a failed allocation themselves and report it as their own error.
     const std::string what = e.what();
     std::string hint;
     if (what.find("bad_alloc") != std::string::npos ||
         what.find("OutOfMemory") != std::string::npos)
-      hint = " (" + reader + " ran out of memory, limit " + seconds(limits.memory_mib) +
-             " MiB; raise --reader-memory if the file is just large)";
+      hint = " (" + reader + " could not allocate memory: a corrupt size in the file, or more " +
+             "than its limit of " + seconds(limits.memory_mib) + " MiB)";
     answer = static_cast<char>(Reply::Error) + what + hint;
   } catch (...) {
     answer = static_cast<char>(Reply::Error) + path + ": " + reader + " threw an unknown exception";
@@ -144,8 +145,8 @@ int wait_child(pid_t pid, const IsolationLimits& limits, double parent_resident_
   }
 }
 
-RawMesh answer_of(int fd, int status, const std::string& path, const std::string& reader,
-                  const IsolationLimits& limits) {
+std::string answer_of(int fd, int status, const std::string& path, const std::string& reader,
+                      const IsolationLimits& limits) {
   if (status == kTimedOut)
     throw Error(path, reader + " took longer than " + seconds(limits.timeout_s) +
                           " s (raise --timeout if the file is just large)");
@@ -163,15 +164,15 @@ RawMesh answer_of(int fd, int status, const std::string& path, const std::string
   const std::string bytes = read_all(fd, path);
   if (bytes.empty()) throw Error(path, reader + " gave no answer");
   if (bytes[0] == static_cast<char>(Reply::Error)) throw Error(bytes.substr(1));
-  if (bytes[0] != static_cast<char>(Reply::Mesh))
+  if (bytes[0] != static_cast<char>(Reply::Result))
     throw Error(path, "the reader process answered garbage (status)");
-  return decode_raw_mesh(bytes.substr(1), path);
+  return bytes.substr(1);
 }
 
 }  // namespace
 
-RawMesh read_isolated(const std::string& path, const std::string& reader,
-                      const IsolationLimits& limits, const std::function<RawMesh()>& read) {
+std::string run_isolated(const std::string& path, const std::string& reader,
+                         const IsolationLimits& limits, const std::function<std::string()>& read) {
   if (!limits.isolate) return read();
   if (!(limits.timeout_s >= 0) || !(limits.memory_mib >= 0))
     throw Error(path, "the reader's time and memory limits must be >= 0");
@@ -185,13 +186,13 @@ RawMesh read_isolated(const std::string& path, const std::string& reader,
   }
   if (pid == 0) child(fd, path, reader, limits, read);
   try {
-    RawMesh raw = answer_of(fd, wait_child(pid, limits, resident), path, reader, limits);
+    std::string answer = answer_of(fd, wait_child(pid, limits, resident), path, reader, limits);
     ::close(fd);
-    return raw;
+    return answer;
   } catch (...) {
     ::close(fd);
     throw;
   }
 }
 
-}  // namespace laserfit::cad
+}  // namespace laserfit
