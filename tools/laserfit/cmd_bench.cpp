@@ -7,6 +7,7 @@
 #include "command.hpp"
 #include "laserfit/bench/dataset.hpp"
 #include "laserfit/bench/runner.hpp"
+#include "laserfit/core/cpu_budget.hpp"
 #include "laserfit/core/error.hpp"
 
 namespace laserfit::cli {
@@ -30,9 +31,8 @@ std::vector<std::string> split(const std::string& s) {
   return v;
 }
 
-int jobs_or_default(int jobs) {
-  return jobs > 0 ? jobs : int(std::max(1u, std::thread::hardware_concurrency()));
-}
+// --jobs, or what this process was given (CPU affinity, cgroup quota, SLURM_CPUS_PER_TASK).
+CpuBudget jobs_or_default(int jobs) { return jobs > 0 ? CpuBudget{jobs, "--jobs"} : cpu_budget(); }
 
 int run(const Options& o, CLI::App* gen, CLI::App* merge) {
   if (merge->parsed()) {
@@ -53,7 +53,7 @@ int run(const Options& o, CLI::App* gen, CLI::App* merge) {
       return 0;
     }
     const auto s = bench::generate_dataset(
-        b, dir, jobs_or_default(o.jobs),
+        b, dir, jobs_or_default(o.jobs).jobs,
         o.repetitions.empty() ? std::vector<int>{} : parse_range(o.repetitions, "--repetitions"),
         split(o.scenes));
     emit(o.json,
@@ -96,7 +96,8 @@ int run(const Options& o, CLI::App* gen, CLI::App* merge) {
   s.out_dir = o.out.empty() ? "out/bench/" + b.name : o.out;
   s.dataset_dir = o.dataset;
   s.thresholds_file = o.thresholds;
-  s.jobs = jobs_or_default(o.jobs);
+  const CpuBudget budget = jobs_or_default(o.jobs);
+  s.jobs = budget.jobs, s.jobs_source = budget.source;
   if (!o.repetitions.empty()) s.only_repetitions = parse_range(o.repetitions, "--repetitions");
   s.only_scenes = split(o.scenes);
   s.overlays = !o.no_overlays;
@@ -139,7 +140,8 @@ Command add_bench(CLI::App& root) {
   app->add_option("--out", o->out,
                   "result directory (default out/bench/<name>); an interrupted run there resumes");
   app->add_option("--jobs", o->jobs,
-                  "trials in parallel (default: all cores; 1 gives per-trial peak memory)");
+                  "trials in parallel (default: the CPUs this process may use: affinity, cgroup "
+                  "quota, SLURM_CPUS_PER_TASK; 1 gives per-trial peak memory)");
   app->add_option("--dataset", o->dataset,
                   "read scans from a generated dataset instead of simulating them");
   app->add_option("--thresholds", o->thresholds,

@@ -6,6 +6,7 @@
 #include "command.hpp"
 #include "laserfit/bench/tune.hpp"
 #include "laserfit/core/atomic_file.hpp"
+#include "laserfit/core/cpu_budget.hpp"
 #include "laserfit/core/error.hpp"
 
 namespace laserfit::cli {
@@ -28,7 +29,7 @@ int run(const Options& o) {
   std::string p;
   for (std::stringstream in(o.params); std::getline(in, p, ',');)
     if (!p.empty()) s.params.push_back(p);
-  s.jobs = o.jobs > 0 ? o.jobs : int(std::max(1u, std::thread::hardware_concurrency()));
+  s.jobs = o.jobs > 0 ? o.jobs : cpu_budget().jobs;
   s.progress = !o.quiet;
   const auto r = bench::tune(b, s);
   registration::write_thresholds(o.out, r.thresholds);

@@ -2,13 +2,14 @@
 #include <vector>
 
 #include "command.hpp"
+#include "laserfit/core/build_info.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{
       "laserfit — um-precise robotic insertion: CAD -> reference clouds -> scans -> "
       "registration. All lengths in millimetres."};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "laserfit 0.1.0");
+  app.set_version_flag("--version", laserfit::build_info());
   std::vector<laserfit::cli::Command> commands = {
       laserfit::cli::add_import(app),   laserfit::cli::add_refcloud(app),
       laserfit::cli::add_cad(app),      laserfit::cli::add_scan(app),

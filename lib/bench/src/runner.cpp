@@ -1,6 +1,8 @@
 // The benchmark runner: parallel trials, a journal for resuming, atomic final files.
 #include "laserfit/bench/runner.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -14,6 +16,7 @@
 #include "laserfit/bench/checksum.hpp"
 #include "laserfit/bench/memory.hpp"
 #include "laserfit/core/atomic_file.hpp"
+#include "laserfit/core/build_info.hpp"
 #include "laserfit/core/error.hpp"
 #include "laserfit/core/parallel.hpp"
 
@@ -29,6 +32,8 @@ io::Json run_header(const Benchmark& b, const RunSettings& s,
   return {{"format", "laserfit.bench/1"},
           {"benchmark", b.name},
           {"file", b.file},
+          {"build", build_info()},
+          {"trials_selected", select_trials(b, s.only_repetitions, s.only_scenes).size()},
           {"digest", hex32(uint32_t(b.digest))},
           {"seed", b.seed},
           {"methods", methods},
@@ -38,6 +43,33 @@ io::Json run_header(const Benchmark& b, const RunSettings& s,
           {"thresholds", s.thresholds_file.empty() ? "" : hex32(crc32_file(s.thresholds_file))},
           {"trials_total", enumerate_trials(b).size()}};
 }
+
+// One writer per result directory: a second run into the same --out (a resubmitted array task,
+// a mistyped shard index) would repeat every trial and interleave the journal. The lock is the
+// kernel's (flock), so it dies with its holder, even on kill -9.
+class DirLock {
+ public:
+  explicit DirLock(const std::string& dir)
+      : fd_(::open((dir + "/.lock").c_str(), O_RDWR | O_CREAT, 0644)) {
+    if (fd_ < 0) throw Error(dir, "cannot create the run's lock file");
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      char pid[32] = {};
+      (void)!::pread(fd_, pid, sizeof pid - 1, 0);
+      ::close(fd_);
+      throw Error(dir, std::string("another laserfit bench is writing here (pid ") + pid +
+                           "); wait for it to finish or choose another --out");
+    }
+    const std::string me = std::to_string(::getpid());
+    (void)!::ftruncate(fd_, 0);
+    (void)!::pwrite(fd_, me.data(), me.size(), 0);
+  }
+  ~DirLock() { ::close(fd_); }
+  DirLock(const DirLock&) = delete;
+  DirLock& operator=(const DirLock&) = delete;
+
+ private:
+  int fd_;
+};
 
 // Reads the journal's complete lines (a torn last line from a kill is dropped) and rewrites it
 // without the torn tail, so appending continues on a line boundary.
@@ -56,11 +88,10 @@ std::map<int, std::vector<io::Json>> resume(const std::string& path, const io::J
       break;
     }
     if (first) {
-      if (j != header)
-        throw Error(
-            path,
-            "a journal of a different run (benchmark, methods, shard or thresholds differ); "
-            "remove it or choose another --out");
+      if (run_identity(j) != run_identity(header))
+        throw Error(path,
+                    "a journal of a different run (benchmark content, methods, shard, selection, "
+                    "thresholds or build differ); remove it or choose another --out");
       first = false;
     } else {
       done[j.at("trial").get<int>()] = j.at("records").get<std::vector<io::Json>>();
@@ -102,6 +133,7 @@ RunSummary run_benchmark(const Benchmark& b, const RunSettings& s) {
   std::optional<registration::Thresholds> thresholds;
   if (!s.thresholds_file.empty()) thresholds = registration::load_thresholds(s.thresholds_file);
   fs::create_directories(s.out_dir);
+  const DirLock lock(s.out_dir);
   const io::Json header = run_header(b, s, methods);
   const std::string journal = s.out_dir + "/" + kJournal;
   std::map<int, std::vector<io::Json>> done = resume(journal, header);
@@ -183,8 +215,8 @@ RunSummary run_benchmark(const Benchmark& b, const RunSettings& s) {
   sum.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   sum.trials_per_s = pending.empty() ? 0 : double(pending.size()) / sum.wall_s;
   io::Json run = header;
-  run["jobs"] = s.jobs, run["dataset"] = s.dataset_dir, run["trials"] = mine,
-  run["resumed"] = sum.resumed;
+  run["jobs"] = s.jobs, run["jobs_source"] = s.jobs_source.empty() ? "--jobs" : s.jobs_source;
+  run["dataset"] = s.dataset_dir, run["trials"] = mine, run["resumed"] = sum.resumed;
   run["records"] = records.size(), run["wall_s"] = sum.wall_s,
   run["trials_per_s"] = sum.trials_per_s;
   write_results(s.out_dir, records, run);

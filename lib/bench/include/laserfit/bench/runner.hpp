@@ -16,11 +16,12 @@ namespace laserfit::bench {
 struct RunSettings {
   std::vector<std::string> methods;  // empty: the benchmark's own list
   Shard shard;
-  std::string out_dir;                   // results.jsonl, summary.csv, run.json, overlays/
-  std::string dataset_dir;               // non-empty: read scans from a generated dataset
-  std::string thresholds_file;           // non-empty: tuned thresholds on top of each method
-  int jobs = 1;                          // trials in parallel (1: per-trial peak memory)
-  std::vector<int> only_repetitions;     // non-empty: only these repetitions (tuning splits)
+  std::string out_dir;                // results.jsonl, summary.csv, run.json, overlays/
+  std::string dataset_dir;            // non-empty: read scans from a generated dataset
+  std::string thresholds_file;        // non-empty: tuned thresholds on top of each method
+  int jobs = 1;                       // trials in parallel (1: per-trial peak memory)
+  std::string jobs_source;            // where `jobs` came from (cpu_budget's source), for run.json
+  std::vector<int> only_repetitions;  // non-empty: only these repetitions (tuning splits)
   std::vector<std::string> only_scenes;  // non-empty: only these scenes (by name)
   bool overlays = true;                  // first trial of each scene: overlay clouds
   bool progress = true;                  // progress on stderr (a bar on a terminal)
@@ -33,12 +34,21 @@ struct RunSummary {
 
 RunSummary run_benchmark(const Benchmark& b, const RunSettings& s);
 
-// Combines the result directories of the shards 0..N-1 of one benchmark into `out_dir`; refuses
-// missing, duplicate or mismatched shards. The merge equals a single run of all trials.
+// Combines the result directories of the shards 0..N-1 of one benchmark into `out_dir`. Refuses
+// anything that is not exactly one run: a missing, repeated or foreign shard (benchmark content,
+// methods, scenes, repetitions, thresholds or build differ), a shard whose results.jsonl does not
+// match its own run.json (record count, CRC-32, trials), a record in the wrong shard, or shards
+// that do not add up to the run's selection. An empty shard is a shard. The merged run.json is
+// derived from the merged records. The merge equals a single run of all trials.
 RunSummary merge_runs(const std::vector<std::string>& dirs, const std::string& out_dir);
 
+// What makes two runs (or a journal and a run) the same run: every field of run.json's header
+// except where it was written from (the benchmark's path spelling, the job count).
+io::Json run_identity(const io::Json& run);
+
 // results.jsonl <-> records; records sorted by (trial, object order, method order) as written.
-std::vector<io::Json> read_results(const std::string& path);
+// `allow_empty`: a shard with no trials has an empty results.jsonl.
+std::vector<io::Json> read_results(const std::string& path, bool allow_empty = false);
 void write_results(const std::string& dir, const std::vector<io::Json>& records,
                    const io::Json& run);
 
