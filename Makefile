@@ -3,6 +3,11 @@
 SHELL := /bin/bash
 BUILD ?= build
 JOBS ?= $(shell nproc)
+# Sanitizer settings for test-asan and fuzz: every report is fatal; LeakSanitizer on, with the
+# third-party libraries' own one-time allocations suppressed (tests/fuzz/lsan.supp).
+ASAN_OPTIONS ?= detect_leaks=1:abort_on_error=1:detect_stack_use_after_return=0
+UBSAN_OPTIONS ?= print_stacktrace=1:halt_on_error=1
+LSAN_OPTIONS ?= suppressions=$(CURDIR)/tests/fuzz/lsan.supp:print_suppressions=0
 BIN := $(BUILD)/bin
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
@@ -12,16 +17,25 @@ DEB_PACKAGES := cmake ninja-build ccache g++ pkg-config \
   libocct-data-exchange-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev \
   libocct-foundation-dev libyaml-cpp-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev \
   nlohmann-json3-dev libcli11-dev libboost-dev libvtk9-dev xvfb xauth
+# The sanitizer and fuzzing build (make test-asan, make fuzz): clang with libFuzzer.
+FUZZ_PACKAGES := clang libfuzzer-14-dev libclang-rt-14-dev llvm python3
 # Only for the Open3D baseline of `make bench-registration` (large; not needed to build or test).
 BENCH_PACKAGES := python3 python3-numpy python3-open3d
 
-.PHONY: all deps deps-bench install-packages configure build test demo cad bench bench-cad bench-scan \
+.PHONY: all deps deps-bench deps-fuzz deps-slurm test-slurm build-asan test-asan fuzz fuzz-campaign fuzz-campaign-cli install-packages configure build test demo cad bench bench-cad bench-scan \
   bench-registration bench-registration-speed bench-quick bench-suites tune report paper clean format
 
 all: build
 
 deps:
 	@$(MAKE) --no-print-directory install-packages PACKAGES="$(DEB_PACKAGES)"
+
+deps-fuzz:
+	@$(MAKE) --no-print-directory install-packages PACKAGES="$(FUZZ_PACKAGES)"
+
+SLURM_PACKAGES := slurmctld slurmd slurm-client munge parallel python3
+deps-slurm:
+	@$(MAKE) --no-print-directory install-packages PACKAGES="$(SLURM_PACKAGES)"
 
 deps-bench:
 	@$(MAKE) --no-print-directory install-packages PACKAGES="$(BENCH_PACKAGES)"
@@ -46,6 +60,72 @@ build: configure
 
 test: build
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
+
+# The test suite again, built by clang with AddressSanitizer + UndefinedBehaviorSanitizer (any
+# report fails the test), plus the libFuzzer targets; a second build folder, $(ASAN_BUILD).
+ASAN_BUILD ?= build-asan
+$(ASAN_BUILD)/build.ninja: CMakeLists.txt | deps deps-fuzz
+	CC=clang CXX=clang++ cmake -S . -B $(ASAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release \
+	  -DLASERFIT_SANITIZE=ON -DLASERFIT_FUZZ=ON -DLASERFIT_BUILD_BENCHMARKS=OFF
+
+build-asan: deps deps-fuzz $(ASAN_BUILD)/build.ninja
+	cmake --build $(ASAN_BUILD) -j $(JOBS)
+
+test-asan: build-asan
+	ASAN_OPTIONS=$(ASAN_OPTIONS) UBSAN_OPTIONS=$(UBSAN_OPTIONS) LSAN_OPTIONS=$(LSAN_OPTIONS) \
+	  ctest --test-dir $(ASAN_BUILD) --output-on-failure -j $(JOBS)
+
+# Every fuzz target for FUZZ_SECONDS, from its committed seed corpus (tests/fuzz/corpus, read
+# only; the growing corpus lives in out/fuzz/). Any finding fails: it is left in
+# out/fuzz/findings/<target>/ to be fixed and committed to tests/fuzz/findings/<target>/.
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS := cloud mesh raw_mesh scene cell benchmark thresholds manifest strings
+fuzz: build-asan
+	@for t in $(FUZZ_TARGETS); do \
+	  mkdir -p out/fuzz/corpus/$$t out/fuzz/findings/$$t || exit 1; \
+	  echo "fuzz $$t: $(FUZZ_SECONDS) s"; \
+	  ASAN_OPTIONS=$(ASAN_OPTIONS) UBSAN_OPTIONS=$(UBSAN_OPTIONS) LSAN_OPTIONS=$(LSAN_OPTIONS) \
+	  $(ASAN_BUILD)/bin/fuzz_$$t out/fuzz/corpus/$$t tests/fuzz/corpus/$$t \
+	    -max_total_time=$(FUZZ_SECONDS) -timeout=30 -rss_limit_mb=4096 -max_len=65536 \
+	    -artifact_prefix=out/fuzz/findings/$$t/ -print_final_stats=1 \
+	    > out/fuzz/$$t.log 2>&1; rc=$$?; \
+	  grep -E '^(stat::number_of_executed_units|stat::peak_rss_mb)|cov:' out/fuzz/$$t.log | tail -3; \
+	  if [ $$rc -ne 0 ] || [ -n "$$(ls out/fuzz/findings/$$t)" ]; then \
+	    echo "fuzz $$t: FINDING (exit $$rc), see out/fuzz/$$t.log and out/fuzz/findings/$$t/"; exit 1; fi; \
+	done; echo "fuzz: no findings"
+
+# The offline robustness campaign (a benchmark, not a test; hours on 2 cores, run with -j 2):
+# FUZZ_RUNS executions of every fuzz target, then the black-box mutation of `laserfit import`
+# (1000 mutated STEP files, 300 of each of a PLY, a binary and an ASCII STL and an OBJ, 120
+# COLLADA), all into out/fuzz/campaign/. reports/fuzz/README.md summarises a run.
+FUZZ_RUNS ?= 1000000
+CAMPAIGN := out/fuzz/campaign
+O2AC := tests/data/o2ac
+fuzz-campaign: $(addprefix fuzz-campaign-,$(FUZZ_TARGETS)) fuzz-campaign-cli
+
+fuzz-campaign-%: build-asan
+	@mkdir -p $(CAMPAIGN)/corpus/$* $(CAMPAIGN)/findings/$*
+	ASAN_OPTIONS=$(ASAN_OPTIONS) UBSAN_OPTIONS=$(UBSAN_OPTIONS) LSAN_OPTIONS=$(LSAN_OPTIONS) \
+	  $(ASAN_BUILD)/bin/fuzz_$* $(CAMPAIGN)/corpus/$* tests/fuzz/corpus/$* -runs=$(FUZZ_RUNS) \
+	  -timeout=30 -rss_limit_mb=4096 -max_len=65536 -artifact_prefix=$(CAMPAIGN)/findings/$*/ \
+	  -print_final_stats=1 > $(CAMPAIGN)/$*.log 2>&1
+
+fuzz-campaign-cli: build deps-fuzz
+	@mkdir -p $(CAMPAIGN)/cli
+	$(BIN)/laserfit import $(O2AC)/02-PANEL.stl -o $(CAMPAIGN)/cli/panel.ply > /dev/null
+	python3 benchmarks/fuzz/mutate_cli.py $(BIN)/laserfit $(CAMPAIGN)/cli/step --count 1000 --seed 1 \
+	  --jobs $(JOBS) $(O2AC)/02-PANEL.step
+	python3 benchmarks/fuzz/mutate_cli.py $(BIN)/laserfit $(CAMPAIGN)/cli/mesh --count 300 --seed 2 \
+	  --jobs $(JOBS) $(CAMPAIGN)/cli/panel.ply $(O2AC)/02-PANEL.stl $(O2AC)/endcap_EDCS10.stl \
+	  $(O2AC)/04_37D-GEARMOTOR-50-70.obj
+	python3 benchmarks/fuzz/mutate_cli.py $(BIN)/laserfit $(CAMPAIGN)/cli/dae --count 120 --seed 3 \
+	  --jobs $(JOBS) $(O2AC)/04_37D-GEARMOTOR-50-70.dae
+
+# A real one-node Slurm (munge, slurmctld, slurmd on localhost, private configuration): the
+# recipe tools/slurm/laserfit-bench-slurm as 4- and 16-task arrays, and GNU parallel, each merged
+# and compared with a single run record by record.
+test-slurm: build deps-slurm
+	bash tests/slurm/test_slurm.sh $(BIN)
 
 # The main job on built-in data: import a real CAD file, make reference clouds and scans of the
 # built-in scenes, then the quick benchmark, the threshold tuning and the report.
@@ -144,4 +224,4 @@ format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')
 
 clean:
-	rm -rf $(BUILD) out
+	rm -rf $(BUILD) $(ASAN_BUILD) out
