@@ -9,6 +9,7 @@
 
 #include <filesystem>
 
+#include "laserfit/bench/dataset.hpp"
 #include "laserfit/bench/runner.hpp"
 #include "laserfit/core/error.hpp"
 #include "test_util.hpp"
@@ -149,4 +150,10 @@ TEST(Merge, ASecondWriterIntoARunsDirectoryIsRefused) {
   }
   EXPECT_FALSE(fs::exists(dir / "run/journal.jsonl"));
   ::close(fd);
+}
+
+TEST(Manifest, AFilePathMustStayInsideTheDataset) {
+  EXPECT_EQ(bench::manifest_path("m.json", "scans/0.pcd"), "scans/0.pcd");
+  for (const char* bad : {"../x.pcd", "/etc/passwd", "scans/../../x", ""})
+    EXPECT_THROW(bench::manifest_path("m.json", bad), Error) << bad;
 }

@@ -78,11 +78,21 @@ DatasetSummary generate_dataset(const Benchmark& b, const std::string& dir, int 
   return s;
 }
 
+std::string manifest_path(const std::string& manifest, const std::string& path) {
+  const fs::path p(path);
+  bool up = false;
+  for (const auto& part : p) up |= part == "..";
+  if (path.empty() || p.is_absolute() || up || path.find('\0') != std::string::npos)
+    throw Error(manifest, "file path '" + path + "' leaves the dataset");
+  return path;
+}
+
 void verify_dataset(const std::string& dir) {
   const io::Json manifest = io::read_json(dir + "/manifest.json");
   try {
     for (const auto& f : manifest.at("files")) {
-      const std::string path = dir + "/" + f.at("path").get<std::string>();
+      const std::string path =
+          dir + "/" + manifest_path(dir + "/manifest.json", f.at("path").get<std::string>());
       if (!fs::exists(path)) throw Error(path, "missing (listed in the manifest)");
       if (fs::file_size(path) != f.at("bytes").get<size_t>() ||
           hex32(crc32_file(path)) != f.at("crc32"))

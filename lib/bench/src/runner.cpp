@@ -14,6 +14,7 @@
 #include <set>
 
 #include "laserfit/bench/checksum.hpp"
+#include "laserfit/bench/dataset.hpp"
 #include "laserfit/bench/memory.hpp"
 #include "laserfit/core/atomic_file.hpp"
 #include "laserfit/core/build_info.hpp"
@@ -160,7 +161,8 @@ RunSummary run_benchmark(const Benchmark& b, const RunSettings& s) {
     if (manifest.value("digest", "") != hex32(uint32_t(b.digest)))
       throw Error(mf, "generated from a different benchmark file than " + b.file);
     try {
-      for (const auto& f : manifest.at("files")) crc[f.at("path")] = f.at("crc32");
+      for (const auto& f : manifest.at("files"))
+        crc[manifest_path(mf, f.at("path").get<std::string>())] = f.at("crc32");
     } catch (const io::Json::exception& e) {
       throw Error(mf, std::string("not a laserfit dataset manifest: ") + e.what());
     }

@@ -24,4 +24,8 @@ DatasetSummary generate_dataset(const Benchmark& b, const std::string& dir, int 
 // naming the first file that differs or is missing.
 void verify_dataset(const std::string& dir);
 
+// A manifest's file path, refused (laserfit::Error naming the manifest) unless it is relative
+// and stays inside the dataset: a manifest must not make laserfit read /etc/shadow or ../x.
+std::string manifest_path(const std::string& manifest, const std::string& path);
+
 }  // namespace laserfit::bench
