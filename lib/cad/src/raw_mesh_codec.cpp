@@ -15,7 +15,9 @@ constexpr char kMagic[8] = {'L', 'F', 'R', 'M', 'E', 'S', 'H', '1'};
 
 struct Writer {
   std::string out;
-  void bytes(const void* p, size_t n) { out.append(static_cast<const char*>(p), n); }
+  void bytes(const void* p, size_t n) {
+    if (n > 0) out.append(static_cast<const char*>(p), n);
+  }
   void u64(uint64_t v) { bytes(&v, sizeof v); }
   void f64(double v) { bytes(&v, sizeof v); }
   void str(const std::string& s) { u64(s.size()), bytes(s.data(), s.size()); }
@@ -33,6 +35,7 @@ struct Reader {
     throw Error(path, "the reader process answered garbage (" + what + ")");
   }
   void bytes(void* p, size_t n) {
+    if (n == 0) return;  // an empty string's or vector's data() may be null
     if (n > in.size() - at) fail("truncated");
     std::memcpy(p, in.data() + at, n);
     at += n;

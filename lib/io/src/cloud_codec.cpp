@@ -14,7 +14,7 @@ template <typename T>
 void put(std::string& out, const std::vector<T>& v) {
   const uint64_t n = v.size();
   out.append(reinterpret_cast<const char*>(&n), sizeof n);
-  out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+  if (n > 0) out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
 }
 
 struct Reader {
@@ -25,6 +25,7 @@ struct Reader {
     throw Error(path, "the reader process answered garbage (" + what + ")");
   }
   void bytes(void* p, size_t n) {
+    if (n == 0) return;  // an empty vector's data() may be null, which memcpy must not see
     if (n > in.size() - at) fail("truncated");
     std::memcpy(p, in.data() + at, n);
     at += n;
