@@ -79,6 +79,8 @@ test-asan: build-asan
 # only; the growing corpus lives in out/fuzz/). Any finding fails: it is left in
 # out/fuzz/findings/<target>/ to be fixed and committed to tests/fuzz/findings/<target>/.
 FUZZ_SECONDS ?= 60
+# FUZZ_SEED 0: libFuzzer picks one; CI fixes it so that a run is repeatable.
+FUZZ_SEED ?= 0
 FUZZ_TARGETS := cloud mesh raw_mesh scene cell benchmark thresholds manifest strings
 fuzz: build-asan
 	@for t in $(FUZZ_TARGETS); do \
@@ -86,7 +88,7 @@ fuzz: build-asan
 	  echo "fuzz $$t: $(FUZZ_SECONDS) s"; \
 	  ASAN_OPTIONS=$(ASAN_OPTIONS) UBSAN_OPTIONS=$(UBSAN_OPTIONS) LSAN_OPTIONS=$(LSAN_OPTIONS) \
 	  $(ASAN_BUILD)/bin/fuzz_$$t out/fuzz/corpus/$$t tests/fuzz/corpus/$$t \
-	    -max_total_time=$(FUZZ_SECONDS) -timeout=30 -rss_limit_mb=4096 -max_len=65536 \
+	    -max_total_time=$(FUZZ_SECONDS) -seed=$(FUZZ_SEED) -timeout=30 -rss_limit_mb=4096 -max_len=65536 \
 	    -artifact_prefix=out/fuzz/findings/$$t/ -print_final_stats=1 \
 	    > out/fuzz/$$t.log 2>&1; rc=$$?; \
 	  grep -E '^(stat::number_of_executed_units|stat::peak_rss_mb)|cov:' out/fuzz/$$t.log | tail -3; \

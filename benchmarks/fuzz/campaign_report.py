@@ -24,13 +24,20 @@ for log in sorted(f for f in os.listdir(d) if f.endswith(".log")):
     print(f"| {name} | {int(stat.get('number_of_executed_units', 0)):,} | "
           f"{stat.get('average_exec_per_sec', '?')} | {cov} | {ft} | {corp} | {findings} |")
 print()
-print("| mutated from | runs | exit 0 | exit 1 (one line) | crashes | hangs | stray outputs | findings | slowest (s) |")
-print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+print("| mutated from | runs | exit 0 | exit 1 (one line) | of which the parser crashed | "
+      "of which it ran out of time or memory | laserfit crashes | hangs | stray outputs | "
+      "findings | slowest (s) |")
+print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
 cli = os.path.join(d, "cli")
 for sub in sorted(os.listdir(cli)) if os.path.isdir(cli) else []:
     p = os.path.join(cli, sub, "summary.json")
     if not os.path.exists(p):
         continue
+    runs = [json.loads(l) for l in open(os.path.join(cli, sub, "runs.jsonl"))]
     for src, s in json.load(open(p))["sources"].items():
-        print(f"| {src} | {s['runs']} | {s['exit0']} | {s['exit1']} | {s['crashes']} | {s['hangs']} | "
-              f"{s['stray_outputs']} | {s['findings']} | {s['max_seconds']:.1f} |")
+        mine = [r for r in runs if r["source"] == src]
+        crashed = sum("crashed (signal" in r["reason"] for r in mine)
+        limited = sum(("took longer" in r["reason"]) or ("memory" in r["reason"]) for r in mine)
+        print(f"| {src} | {s['runs']} | {s['exit0']} | {s['exit1']} | {crashed} | {limited} | "
+              f"{s['crashes']} | {s['hangs']} | {s['stray_outputs']} | {s['findings']} | "
+              f"{s['max_seconds']:.1f} |")

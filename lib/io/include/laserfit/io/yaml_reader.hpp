@@ -5,6 +5,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <filesystem>
+#include <ios>
 #include <initializer_list>
 #include <set>
 #include <sstream>
@@ -121,10 +123,15 @@ struct YamlReader {
 // a configuration file is user input, and no shape of it may end the program another way.
 template <typename F>
 auto guard_yaml(const std::string& file, F&& load) -> decltype(load()) {
+  std::error_code ec;  // a folder or a device named as a file: refused before yaml-cpp reads it
+  if (std::filesystem::exists(file, ec) && !std::filesystem::is_regular_file(file, ec))
+    throw Error(file, "not a regular file");
   try {
     return load();
   } catch (const YAML::Exception& e) {
     throw Error(file, std::string("not a valid file: ") + e.what());
+  } catch (const std::ios_base::failure& e) {
+    throw Error(file, std::string("cannot read the file: ") + e.what());
   }
 }
 
