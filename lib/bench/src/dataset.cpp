@@ -94,6 +94,8 @@ void verify_dataset(const std::string& dir) {
       const std::string path =
           dir + "/" + manifest_path(dir + "/manifest.json", f.at("path").get<std::string>());
       if (!fs::exists(path)) throw Error(path, "missing (listed in the manifest)");
+      if (!fs::is_regular_file(path))
+        throw Error(path, "not a regular file (listed in the manifest)");
       if (fs::file_size(path) != f.at("bytes").get<size_t>() ||
           hex32(crc32_file(path)) != f.at("crc32"))
         throw Error(path, "differs from the manifest (size or CRC-32)");
