@@ -17,6 +17,11 @@ for log in sorted(f for f in os.listdir(d) if f.endswith(".log")):
     name = log[:-4]
     text = open(os.path.join(d, log), errors="replace").read()
     stat = dict(re.findall(r"^stat::(\w+):\s+(\d+)", text, re.M))
+    if "number_of_executed_units" not in stat:  # stopped before its final stats: last status line
+        counts = re.findall(r"^#(\d+)\s", text, re.M)
+        stat["number_of_executed_units"] = counts[-1] if counts else "0"
+        rates = re.findall(r"exec/s: (\d+)", text)
+        stat["average_exec_per_sec"] = (rates[-1] if rates else "?") + " (stopped)"
     last = re.findall(r"cov: (\d+) ft: (\d+) corp: (\d+)", text)
     cov, ft, corp = last[-1] if last else ("?", "?", "?")
     findings_dir = os.path.join(d, "findings", name)
