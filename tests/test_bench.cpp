@@ -217,7 +217,7 @@ TEST(Bench, ThresholdsRoundTripAndAreValidated) {
       {"  rho_icp:", "  rho_icp_typo:", "unknown key"},
       {"  min_overlap: {value: 0.3, unit: \"fraction\"}\n", "", "missing key 'min_overlap'"},
       {"schema: laserfit.thresholds/1", "schema: laserfit.thresholds/9", "schema"},
-      {"method: ceres", "method: magic", "unknown method"},
+      {"method: ceres", "method: magic", "unknown registration method"},
       {"voxel: {value: 0.03,", "voxel: {value: .nan,", "not a finite number"}};
   for (const auto& [from, to, what] : cases) {
     broken(from, to);
@@ -416,7 +416,7 @@ TEST(Bench, TheViewResampledAtThePoseFoundConfirmsATurnedSocket) {
   const size_t k = 1;
   const bench::Target& tg = b.scenes[scene].targets[k];
   ASSERT_EQ(tg.object, "usb_a_receptacle");
-  auto rs = bench::method_settings("ceres", tg, nullptr);
+  auto rs = bench::method_settings(registration::Method::Ceres, tg, nullptr);
   rs.q0 = Eigen::Quaterniond(in.prior[k].rotation()), rs.prior = in.prior[k], rs.seed = t.seed;
   std::istringstream vp(in.scan.metadata.at("viewpoint"));
   rs.pre.use_viewpoint = true;

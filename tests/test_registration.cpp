@@ -65,8 +65,8 @@ TEST(Registration, RecoversAKnownPoseOfTheUsbPlug) {
   const Pose T = test_pose();
   Eigen::Vector3d viewpoint;
   const PointCloud scan = scan_of(plug, T, {0.3, -0.5, 1.0}, &viewpoint);
-  for (const std::string method : {"ceres", "point_to_plane"}) {
-    SCOPED_TRACE(method);
+  for (const auto method : {reg::Refiner::Ceres, reg::Refiner::PointToPlane}) {
+    SCOPED_TRACE(name_of(method));
     reg::RegistrationSettings s;
     s.refine.method = method;
     s.pre.use_viewpoint = true;
@@ -75,10 +75,10 @@ TEST(Registration, RecoversAKnownPoseOfTheUsbPlug) {
     s.q0 = Eigen::Quaterniond(T.rotation() *
                               Eigen::AngleAxisd(0.17, Eigen::Vector3d::UnitX()).toRotationMatrix());
     const auto r = reg::register_cloud(scan, full_ref(plug), s);
-    std::cout << method << ": " << reg::status_name(r.status) << " " << r.reason << " t_err "
-              << trans_err_um(r.T_scan_ref, T) << " um, r_err " << rot_err_deg(r.T_scan_ref, T)
-              << " deg, rmse " << r.inlier_rmse_mm * 1e3 << " um, overlap " << r.overlap
-              << ", attempts " << r.attempts;
+    std::cout << name_of(method) << ": " << reg::status_name(r.status) << " " << r.reason
+              << " t_err " << trans_err_um(r.T_scan_ref, T) << " um, r_err "
+              << rot_err_deg(r.T_scan_ref, T) << " deg, rmse " << r.inlier_rmse_mm * 1e3
+              << " um, overlap " << r.overlap << ", attempts " << r.attempts;
     for (const auto& [k, v] : r.timings_s) std::cout << " " << k << " " << v;
     std::cout << "\n";
     // Sub-micrometre: noise-free surface samples, scan points kept unaveraged (one real point per
@@ -177,7 +177,7 @@ TEST(Registration, RoundPegIsAmbiguousAboutItsAxis) {
   auto rs = settings_for(scanned, scanned.T_scan_object);
   rs.q0.reset();  // the rho_rot gate is not symmetry-aware yet: RANSAC's roll is arbitrary here
   // PCL's point-to-plane ICP would abort on this singular system; it must be routed around it.
-  rs.refine.method = "point_to_plane";
+  rs.refine.method = reg::Refiner::PointToPlane;
   const auto r = reg::register_cloud(scanned.cloud, full_ref(peg), rs);
   ASSERT_EQ(r.status, reg::Status::Ambiguous) << r.reason;
   // The weakest direction is a rotation about the peg's axis (its z, in the scan frame).
@@ -244,9 +244,16 @@ TEST(Registration, RefusesUnusableInput) {
   nans.points.assign(1000, Eigen::Vector3f::Constant(std::nanf("")));
   nans.width = 1000;
   EXPECT_THROW(reg::register_cloud(nans, ref, {}), Error);
-  reg::RegistrationSettings bad;
-  bad.refine.method = "magic";
-  EXPECT_THROW(reg::register_cloud(ref, ref, bad), Error);
+  // Names are parsed once, at the edge, and every name of a table parses back to its value.
+  EXPECT_THROW(parse_enum<reg::Method>("magic"), Error);
+  for (const auto& n : names_of<reg::Method>()) EXPECT_EQ(name_of(parse_enum<reg::Method>(n)), n);
+  for (const auto& n : names_of<reg::Refiner>()) EXPECT_EQ(name_of(parse_enum<reg::Refiner>(n)), n);
+  // A method's settings say which method they are.
+  for (const auto& n : names_of<reg::Method>()) {
+    reg::RegistrationSettings s;
+    reg::apply_method(s, parse_enum<reg::Method>(n));
+    EXPECT_EQ(name_of(reg::method_of(s)), n);
+  }
   // A weak DoF's axis is named x, y or z; anything else is an error, not an out-of-range index.
   EXPECT_EQ(*reg::named_axis("y"), Eigen::Vector3d::UnitY());
   EXPECT_FALSE(reg::named_axis(""));

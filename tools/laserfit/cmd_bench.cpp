@@ -76,22 +76,24 @@ int run(const Options& o, CLI::App* gen, CLI::App* merge) {
     int mine = 0;
     for (const auto& t : bench::select_trials(b, {}, split(o.scenes)))
       if (shard.contains(t)) ++mine, ++per_scene[b.scenes[t.scene].name];
-    io::Json j = {{"benchmark", b.name},           {"seed", b.seed},        {"mode", b.mode},
-                  {"trials_total", trials.size()}, {"shard", shard.text()}, {"trials", mine},
-                  {"per_scene", per_scene},        {"methods", b.methods}};
+    io::Json j = {{"benchmark", b.name},    {"seed", b.seed},
+                  {"mode", b.mode},         {"trials_total", trials.size()},
+                  {"shard", shard.text()},  {"trials", mine},
+                  {"per_scene", per_scene}, {"methods", io::Json::array()}};
+    for (const auto m : b.methods) j["methods"].push_back(name_of(m));
     std::ostringstream h;
     h << b.name << " (seed " << b.seed << ", " << b.mode << "): " << trials.size()
       << " trials in all, " << mine << " in shard " << shard.text() << " (";
     for (const auto& [n, c] : per_scene)
       h << n << " " << c << (n == per_scene.rbegin()->first ? "" : ", ");
     h << "); methods";
-    for (const auto& m : b.methods) h << " " << m;
+    for (const auto m : b.methods) h << " " << name_of(m);
     h << "\n";
     emit(o.json, j, h.str());
     return 0;
   }
   bench::RunSettings s;
-  s.methods = split(o.methods);
+  for (const auto& m : split(o.methods)) s.methods.push_back(parse_enum<registration::Method>(m));
   s.shard = bench::parse_shard(o.shard);
   s.out_dir = o.out.empty() ? "out/bench/" + b.name : o.out;
   s.dataset_dir = o.dataset;
@@ -132,8 +134,8 @@ Command add_bench(CLI::App& root) {
       "shardable; results.jsonl + summary.csv + run.json in --out.");
   app->add_option("benchmark", o->file, "benchmark definition (YAML)");
   app->add_option("--methods", o->methods,
-                  "comma-separated methods (default: the benchmark's): paper, ceres, "
-                  "point_to_plane, point_to_point, gicp, ndt");
+                  "comma-separated methods (default: the benchmark's): " +
+                      join(names_of<registration::Method>()));
   app->add_option("--shard", o->shard,
                   "run one deterministic slice i/N (trials k with k mod N = i)")
       ->capture_default_str();

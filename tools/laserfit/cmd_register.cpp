@@ -15,7 +15,7 @@ namespace laserfit::cli {
 namespace {
 
 struct Options {
-  std::string scan, method = "ceres", coarse = "gated", prior, q0, viewpoint, thresholds, object,
+  std::string scan, method = "ceres", coarse, prior, q0, viewpoint, thresholds, object,
                     thin = "auto";
   std::string weak_rotation, weak_translation;  // x | y | z of the reference frame
   double thin_axis_sigma = registration::ThinSettings{}.axis_prior_deg;
@@ -71,8 +71,8 @@ io::Json result_json(const std::string& ref, const registration::RegistrationRes
 int run(const Options& o) {
   const PointCloud scan = io::read_cloud(o.scan);
   registration::RegistrationSettings s;
-  s.refine.method = o.method;
-  s.coarse.method = o.coarse;
+  registration::apply_method(s, parse_enum<registration::Method>(o.method));
+  if (!o.coarse.empty()) s.coarse.method = parse_enum<registration::CoarseMethod>(o.coarse);
   s.pre.voxel_mm = o.voxel;
   s.rho_rot_deg = o.rho_rot;
   s.rho_icp_vox2 = o.rho_icp;
@@ -84,7 +84,9 @@ int run(const Options& o) {
     registration::RegistrationSettings x = s;
     if (!tuned) return x;
     tuned->apply(x, object, o.voxel);
-    if (given("--method")) x.refine.method = o.method;
+    if (given("--method"))
+      registration::apply_method(x, parse_enum<registration::Method>(o.method));
+    if (given("--coarse")) x.coarse.method = s.coarse.method;
     if (given("--voxel")) x.pre.voxel_mm = o.voxel;
     if (given("--rho-rot")) x.rho_rot_deg = o.rho_rot;
     if (given("--rho-icp")) x.rho_icp_vox2 = o.rho_icp;
@@ -92,7 +94,8 @@ int run(const Options& o) {
   };
   s.max_attempts = o.attempts;
   s.seed = o.seed;
-  s.thin.mode = o.thin, s.thin.axis_prior_deg = o.thin_axis_sigma;
+  s.thin.mode = parse_enum<registration::ThinMode>(o.thin),
+  s.thin.axis_prior_deg = o.thin_axis_sigma;
   s.trust.weak_rotation = registration::named_axis(o.weak_rotation);
   s.trust.weak_translation = registration::named_axis(o.weak_translation);
   s.trust.max_sigma_mm = o.max_sigma_um * 1e-3, s.trust.max_sigma_deg = o.max_sigma_deg;
@@ -155,19 +158,15 @@ Command add_register(CLI::App& root) {
       ->required();
   app->add_option("--ref", o->refs, "reference cloud with normals (laserfit refcloud); repeatable")
       ->required();
-  app->add_option(
-         "--method", o->method,
-         "refinement: " +
-             [] {
-               std::string n;
-               for (const auto& m : registration::refiner_names()) n += (n.empty() ? "" : ", ") + m;
-               return n;
-             }())
+  app->add_option("--method", o->method,
+                  "method: " + join(names_of<registration::Method>()) +
+                      " (paper: Algorithm 1 as published, PCL's RANSAC and ICP)")
+      ->check(CLI::IsMember(names_of<registration::Method>()))
       ->capture_default_str();
   app->add_option("--coarse", o->coarse,
                   "coarse stage: gated (rho_rot tested on every RANSAC hypothesis) | pcl (PCL "
-                  "SampleConsensusPrerejective, rho_rot on its result: the paper)")
-      ->capture_default_str();
+                  "SampleConsensusPrerejective, rho_rot on its result; the default of paper)")
+      ->check(CLI::IsMember(names_of<registration::CoarseMethod>()));
   app->add_option("--prior", o->prior,
                   "prior pose T_scan_ref 'x y z qw qx qy qz' (e.g. from the arm): the first "
                   "hypothesis, RANSAC after it");
@@ -197,7 +196,7 @@ Command add_register(CLI::App& root) {
          "--thin", o->thin,
          "thin parts (a thread: at most 0.5 mm thick, 5 diameters long) are detected "
          "along the prior's axis, not registered: auto (by the reference's shape) | on | off")
-      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->check(CLI::IsMember(names_of<registration::ThinMode>()))
       ->capture_default_str();
   app->add_option("--thin-axis-sigma", o->thin_axis_sigma,
                   "thin parts: how good the prior's axis is (deg, 1 sigma; "

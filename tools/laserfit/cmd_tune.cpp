@@ -21,7 +21,7 @@ struct Options {
 int run(const Options& o) {
   const auto b = bench::load_benchmark(o.file);
   bench::TuneSettings s;
-  s.method = o.method;
+  s.method = parse_enum<registration::Method>(o.method);
   const int half = std::max(1, b.trials / 2);
   s.train = parse_range(o.train.empty() ? "0:" + std::to_string(half) : o.train, "--train");
   s.test = parse_range(
@@ -36,7 +36,7 @@ int run(const Options& o) {
   const io::Json j = {{"thresholds", o.out},
                       {"benchmark", b.name},
                       {"seed", b.seed},
-                      {"method", s.method},
+                      {"method", name_of(s.method)},
                       {"train", r.thresholds.train},
                       {"test", r.thresholds.test},
                       {"train_success_defaults", r.baseline_train.success_rate()},
@@ -70,7 +70,9 @@ Command add_tune(CLI::App& root) {
                   "training repetitions a:b of every cell (default: the first half)");
   app->add_option("--test", o->test, "held-out repetitions c:d (default: the second half)");
   app->add_option("-o,--out", o->out, "thresholds file to write (YAML)")->required();
-  app->add_option("--method", o->method, "refinement method to tune")->capture_default_str();
+  app->add_option("--method", o->method, "method to tune")
+      ->check(CLI::IsMember(names_of<registration::Method>()))
+      ->capture_default_str();
   app->add_option("--params", o->params,
                   "comma-separated parameters to search (default all): rho_rot, rho_icp, "
                   "max_rmse, min_overlap, voxel_scale, feature_radius, ransac_iterations, "

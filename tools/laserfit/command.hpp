@@ -44,6 +44,13 @@ inline void add_reader_limits(CLI::App& app, double& timeout_s, double& memory_m
       ->capture_default_str();
 }
 
+// "a, b, c" (for --help texts listing an enum's names).
+inline std::string join(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
 // "a:b" -> a, a+1, ..., b-1 (repetitions of a benchmark's cells, as tuning splits them).
 inline std::vector<int> parse_range(const std::string& text, const std::string& what) {
   int a = 0, b = 0;

@@ -15,7 +15,8 @@
 
 namespace laserfit::bench {
 
-registration::RegistrationSettings method_settings(const std::string& method, const Target& target,
+registration::RegistrationSettings method_settings(registration::Method method,
+                                                   const Target& target,
                                                    const registration::Thresholds* thresholds) {
   registration::RegistrationSettings s;
   if (thresholds)
@@ -23,12 +24,7 @@ registration::RegistrationSettings method_settings(const std::string& method, co
   else
     s.pre.voxel_mm = target.voxel_mm;
   s.trust.weak_rotation = target.weak_rotation, s.trust.weak_translation = target.weak_translation;
-  if (method == "paper") {
-    s.coarse.method = "pcl";
-    s.refine.method = "paper";
-  } else {
-    s.refine.method = method;  // validated by the registration itself
-  }
+  registration::apply_method(s, method);
   return s;
 }
 
@@ -153,7 +149,8 @@ Score score(const Benchmark& b, const PreparedScene& p, size_t k, const Target& 
 AtTruth at_truth(const Benchmark& b, const PreparedScene& p, const Trial& t, const TrialInput& in,
                  size_t k, const registration::Thresholds* thresholds) {
   const Target& tg = b.scenes[t.scene].targets[k];
-  registration::RegistrationSettings s = method_settings("ceres", tg, thresholds);
+  registration::RegistrationSettings s =
+      method_settings(registration::Method::Ceres, tg, thresholds);
   s.q0 = Eigen::Quaterniond(in.truth[k].rotation());
   s.pre.use_viewpoint = true, s.pre.viewpoint = viewpoint_of(in.scan), s.seed = t.seed;
   s.prior = in.truth[k], s.skip_coarse = true;
@@ -186,10 +183,11 @@ std::vector<io::Json> run_trial(const Benchmark& b, const PreparedScene& p, cons
     const long visible = visible_points(in, p, k);
     AtTruth truth_check;
     if (!tg.expect_failure) truth_check = at_truth(b, p, t, in, k, o.thresholds);
-    for (const auto& m : o.methods) {
+    for (const auto m : o.methods) {
+      const bool paper = m == registration::Method::Paper;
       auto rs = method_settings(m, tg, o.thresholds);
       rs.q0 = Eigen::Quaterniond(in.prior[k].rotation());
-      if (m != "paper") rs.prior = in.prior[k];
+      if (!paper) rs.prior = in.prior[k];
       rs.pre.use_viewpoint = true, rs.pre.viewpoint = viewpoint;
       rs.seed = t.seed;
       const MemoryProbe mem;
@@ -199,7 +197,7 @@ std::vector<io::Json> run_trial(const Benchmark& b, const PreparedScene& p, cons
         // Two candidate parts: the points near the prior-placed reference, then the nearest
         // cluster (the CLI default tries four).
         registration::ViewSampler view;
-        if (tg.resample_view && m != "paper")
+        if (tg.resample_view && !paper)
           view = [&](const Pose& T_scan_ref) {  // bench scans are in the base frame
             return scan::view_reference(p.reference_mesh[k], T_scan_ref, p.scene.settings,
                                         tg.reference_points, b.seed);
@@ -220,7 +218,7 @@ std::vector<io::Json> run_trial(const Benchmark& b, const PreparedScene& p, cons
           {{"benchmark", b.name},
            {"scene", sc.name},
            {"object", tg.object},
-           {"method", m},
+           {"method", name_of(m)},
            {"trial", t.index},
            {"cell", t.cell},
            {"repetition", t.repetition},
@@ -254,8 +252,8 @@ std::vector<io::Json> run_trial(const Benchmark& b, const PreparedScene& p, cons
            {"T_scan_ref", io::pose_to_json(res.T_scan_ref).at("matrix")},
            {"timing", timing}});
       if (!o.overlay_dir.empty() && t.cell == 0 && t.repetition == 0)
-        write_overlay(o.overlay_dir + "/" + sc.name + "_" + tg.object + "_" + m + ".pcd", in.scan,
-                      p.reference[k], res.T_scan_ref);
+        write_overlay(o.overlay_dir + "/" + sc.name + "_" + tg.object + "_" + name_of(m) + ".pcd",
+                      in.scan, p.reference[k], res.T_scan_ref);
     }
   }
   return out;

@@ -29,7 +29,9 @@ namespace {
 constexpr const char* kJournal = "journal.jsonl";
 
 io::Json run_header(const Benchmark& b, const RunSettings& s,
-                    const std::vector<std::string>& methods) {
+                    const std::vector<registration::Method>& methods) {
+  std::vector<std::string> names;
+  for (const auto m : methods) names.push_back(name_of(m));
   return {{"format", "laserfit.bench/1"},
           {"benchmark", b.name},
           {"file", b.file},
@@ -37,7 +39,7 @@ io::Json run_header(const Benchmark& b, const RunSettings& s,
           {"trials_selected", select_trials(b, s.only_repetitions, s.only_scenes).size()},
           {"digest", hex32(uint32_t(b.digest))},
           {"seed", b.seed},
-          {"methods", methods},
+          {"methods", names},
           {"shard", s.shard.text()},
           {"repetitions", s.only_repetitions},
           {"scenes", s.only_scenes},
@@ -125,12 +127,7 @@ void progress_line(bool tty, const std::string& name, size_t done, size_t total,
 
 RunSummary run_benchmark(const Benchmark& b, const RunSettings& s) {
   const auto t_start = std::chrono::steady_clock::now();
-  const std::vector<std::string> methods = s.methods.empty() ? b.methods : s.methods;
-  for (const auto& m : methods) {
-    bool known = m == "paper";
-    for (const auto& r : registration::refiner_names()) known |= r == m;
-    if (!known) throw Error("unknown method '" + m + "'");
-  }
+  const auto methods = s.methods.empty() ? b.methods : s.methods;
   std::optional<registration::Thresholds> thresholds;
   if (!s.thresholds_file.empty()) thresholds = registration::load_thresholds(s.thresholds_file);
   fs::create_directories(s.out_dir);

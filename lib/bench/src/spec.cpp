@@ -134,7 +134,11 @@ static Benchmark load_benchmark_unguarded(const std::string& path) {
     if (!m.IsSequence() || m.size() == 0)
       R.fail("methods", "expected a non-empty list of method names");
     b.methods.clear();
-    for (const auto& x : m) b.methods.push_back(x.as<std::string>());
+    for (const auto& x : m) try {
+        b.methods.push_back(parse_enum<registration::Method>(x.as<std::string>()));
+      } catch (const Error& e) {
+        R.fail("methods", e.what());
+      }
   }
   const auto scenes = R.need(root, "scenes", "benchmark");
   if (!scenes.IsSequence() || scenes.size() == 0) R.fail("scenes", "expected a non-empty list");

@@ -83,7 +83,7 @@ Split make_split(const Benchmark& b, const std::map<int, PreparedScene>& scenes,
 }
 
 Score evaluate(const Benchmark& b, const std::map<int, PreparedScene>& scenes, const Split& split,
-               const registration::Thresholds& th, const std::string& method, int jobs) {
+               const registration::Thresholds& th, registration::Method method, int jobs) {
   TrialOptions o;
   o.methods = {method};
   o.thresholds = &th;

@@ -53,12 +53,18 @@ class Damping final : public ceres::SizedCostFunction<6, 6> {
   double w_, L_;
 };
 
-ceres::LossFunction* make_loss(const std::string& name, double scale) {
-  if (name == "huber") return new ceres::HuberLoss(scale);
-  if (name == "cauchy") return new ceres::CauchyLoss(scale);
-  if (name == "tukey") return new ceres::TukeyLoss(scale);
-  if (name == "none") return nullptr;
-  throw Error("unknown robust loss '" + name + "' (huber, cauchy, tukey, none)");
+ceres::LossFunction* make_loss(RobustLoss loss, double scale) {
+  switch (loss) {
+    case RobustLoss::Huber:
+      return new ceres::HuberLoss(scale);
+    case RobustLoss::Cauchy:
+      return new ceres::CauchyLoss(scale);
+    case RobustLoss::Tukey:
+      return new ceres::TukeyLoss(scale);
+    case RobustLoss::None:
+      break;
+  }
+  return nullptr;
 }
 
 }  // namespace

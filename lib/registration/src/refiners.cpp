@@ -1,37 +1,55 @@
-// The refinement variants by name. A new variant: one refine_<name>.cpp and one line here.
-#include <utility>
-
+// The refinement variants and the methods. A new refiner: one refine_<name>.cpp, one enum value
+// (settings.hpp) and one line here.
 #include "laserfit/core/error.hpp"
 #include "stages.hpp"
 
 namespace laserfit::registration {
-namespace {
-const std::vector<std::pair<std::string, RefineFn>>& table() {
-  static const std::vector<std::pair<std::string, RefineFn>> t = {
-      {"paper", refine_point_to_point},  // Algorithm 1 exactly: PCL's ICP
-      {"point_to_point", refine_point_to_point},
-      {"point_to_plane", refine_point_to_plane},
-      {"gicp", refine_gicp},
-      {"ndt", refine_ndt},
-      {"ceres", refine_ceres},
-  };
-  return t;
-}
-}  // namespace
 
-std::vector<std::string> refiner_names() {
-  std::vector<std::string> n;
-  for (const auto& [name, fn] : table()) n.push_back(name);
-  return n;
-}
-
-RefineFn find_refiner(const std::string& name) {
-  std::string all;
-  for (const auto& [n, fn] : table()) {
-    if (n == name) return fn;
-    all += (all.empty() ? "" : ", ") + n;
+RefineFn refiner_fn(Refiner r) {
+  switch (r) {
+    case Refiner::PointToPoint:
+      return refine_point_to_point;
+    case Refiner::PointToPlane:
+      return refine_point_to_plane;
+    case Refiner::Gicp:
+      return refine_gicp;
+    case Refiner::Ndt:
+      return refine_ndt;
+    case Refiner::Ceres:
+      return refine_ceres;
   }
-  throw Error("unknown registration method '" + name + "' (" + all + ")");
+  throw Error("invalid refiner value");
+}
+
+void apply_method(RegistrationSettings& s, Method m) {
+  s.policies.paper = m == Method::Paper;
+  if (m == Method::Paper) {
+    s.coarse.method = CoarseMethod::Pcl;  // Algorithm 1 exactly: PCL's RANSAC and ICP
+    s.refine.method = Refiner::PointToPoint;
+    return;
+  }
+  s.refine.method = m == Method::PointToPoint   ? Refiner::PointToPoint
+                    : m == Method::PointToPlane ? Refiner::PointToPlane
+                    : m == Method::Gicp         ? Refiner::Gicp
+                    : m == Method::Ndt          ? Refiner::Ndt
+                                                : Refiner::Ceres;
+}
+
+Method method_of(const RegistrationSettings& s) {
+  if (s.policies.paper) return Method::Paper;
+  switch (s.refine.method) {
+    case Refiner::PointToPoint:
+      return Method::PointToPoint;
+    case Refiner::PointToPlane:
+      return Method::PointToPlane;
+    case Refiner::Gicp:
+      return Method::Gicp;
+    case Refiner::Ndt:
+      return Method::Ndt;
+    case Refiner::Ceres:
+      break;
+  }
+  return Method::Ceres;
 }
 
 }  // namespace laserfit::registration

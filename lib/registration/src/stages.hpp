@@ -65,7 +65,7 @@ struct RefineOutput {
   int iterations = 0;
 };
 using RefineFn = RefineOutput (*)(const RefineInput&);
-RefineFn find_refiner(const std::string& name);  // throws Error listing the names
+RefineFn refiner_fn(Refiner r);
 
 // The variants, one small file each (refine_*.cpp); registered in refiners.cpp.
 RefineOutput refine_point_to_point(const RefineInput& in);

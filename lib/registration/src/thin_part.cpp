@@ -105,6 +105,9 @@ std::vector<int> linear_points(const PclCloud& cloud, const ThinSettings& t) {
   return keep;
 }
 
+std::string find_tip(const std::vector<Eigen::Vector3d>& pts,
+                     const std::vector<Eigen::Vector3f>& near, const ThinSettings& t, Candidate& c);
+
 // Why a cluster is not the part, or "" and the candidate.
 std::string assess(const std::vector<Eigen::Vector3d>& all,
                    const std::vector<Eigen::Vector3f>& near, const ThinProfile& prof,
@@ -153,7 +156,18 @@ std::string assess(const std::vector<Eigen::Vector3d>& all,
     return (why << "inliers " << f.inlier_fraction, why.str());
   if (std::acos(std::min(1.0, std::abs(f.axis.dot(a0)))) > t.max_axis_deg * M_PI / 180)
     return "fitted axis off the prior's";
-  const Eigen::Vector3d a = f.axis.dot(a0) < 0 ? Eigen::Vector3d(-f.axis) : f.axis;
+  c.fit.axis = f.axis.dot(a0) < 0 ? Eigen::Vector3d(-f.axis) : f.axis;
+  return find_tip(pts, near, t, c);
+}
+
+// The seen length, the axial sampling and the tip of a fitted candidate (c.fit, its axis pointing
+// to the tip), or why it is too short.
+std::string find_tip(const std::vector<Eigen::Vector3d>& pts,
+                     const std::vector<Eigen::Vector3f>& near, const ThinSettings& t,
+                     Candidate& c) {
+  const CylinderFit& f = c.fit;
+  const Eigen::Vector3d a = f.axis;
+  std::ostringstream why;
   std::vector<double> s_ax;
   for (size_t i = 0; i < pts.size(); ++i)
     if (f.inlier[i]) s_ax.push_back(a.dot(pts[i] - f.point));
@@ -173,7 +187,6 @@ std::string assess(const std::vector<Eigen::Vector3d>& all,
     if (g > 0.25 * c.spacing_mm) steps.push_back(g);
   std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
   const double step = steps.empty() ? 0.0 : steps[steps.size() / 2];
-  c.fit.axis = a;
   // The end of the band as the line test saw it is short of the seen end: there the neighbourhood
   // holds the band on one side only, half as long for its width, and a band seen broadside is
   // too wide for a line over its last ~0.1 mm (the tip measured 90-180 um short in the needle
@@ -253,23 +266,16 @@ ThinProfile thin_profile(const PointCloud& ref, const ThinSettings& s) {
 }
 
 bool uses_thin_detector(const PointCloud& ref, const RegistrationSettings& s) {
-  if (s.thin.mode == "on") return true;
-  if (s.thin.mode == "off") return false;
-  if (s.thin.mode != "auto")
-    throw Error("thin.mode must be auto, on or off, not '" + s.thin.mode + "'");
+  if (s.thin.mode != ThinMode::Auto) return s.thin.mode == ThinMode::On;
   return thin_profile(ref, s.thin).thin;
 }
 
-RegistrationResult detect_thin_part(const PointCloud& scan, const PointCloud& ref,
-                                    const RegistrationSettings& s) {
-  const auto t0 = std::chrono::steady_clock::now();
+namespace {
+
+// The scan points near the axis of the prior-placed reference (all of them without a prior).
+PointCloud near_prior_axis(const PointCloud& scan, const ThinProfile& prof,
+                           const Eigen::Vector3d& a0, const RegistrationSettings& s) {
   const ThinSettings& t = s.thin;
-  const ThinProfile prof = thin_profile(ref, t);
-  if (prof.radius_mm <= 0) throw Error("reference cloud has no usable points");
-  if (!s.prior && !s.q0)
-    throw Error("a thin part is detected along its prior axis: give a prior pose or orientation");
-  const Eigen::Matrix3d R0 = s.prior ? s.prior->rotation() : s.q0->toRotationMatrix();
-  const Eigen::Vector3d a0 = R0.col(2);
   // No mixed-pixel filter here: a profile often returns one lone point off the thread, which
   // that filter takes for a mixed pixel; the cylinder fit's robust loss handles real ones.
   // Candidate points: near the axis of the prior-placed reference (all of them without a prior).
@@ -286,6 +292,48 @@ RegistrationResult detect_thin_part(const PointCloud& scan, const PointCloud& re
     throw Error("scan has no usable points near the thin part's prior (" +
                 std::to_string(near.points.size()) + ")");
   near.width = int(near.points.size());
+  return near;
+}
+
+// The pose of the candidate chosen: z along the fitted axis, the spin about it kept from the
+// prior (unobservable); status ambiguous.
+void thin_pose(const Candidate& c, const Eigen::Matrix3d& R0, const ThinProfile& prof,
+               RegistrationResult& r) {
+  Eigen::Matrix3d R;
+  R.col(2) = c.fit.axis;
+  Eigen::Vector3d x = R0.col(0) - c.fit.axis * c.fit.axis.dot(R0.col(0));
+  if (x.norm() < 1e-6) x = c.fit.axis.unitOrthogonal();
+  R.col(0) = x.normalized();
+  R.col(1) = R.col(2).cross(R.col(0));
+  r.T_scan_ref.linear() = R;
+  r.T_scan_ref.translation() = c.tip - R * prof.tip;
+  r.status = Status::Ambiguous;
+  r.unobservable = 1;
+  r.weakest_direction << c.fit.axis, Eigen::Vector3d::Zero();
+  r.fitness_mm2 = c.fit.rmse_mm * c.fit.rmse_mm, r.inlier_rmse_mm = c.fit.rmse_mm;
+  r.overlap = std::min(1.0, c.length_mm / prof.length_mm);
+  r.covariance = tip_covariance(c);
+  std::ostringstream why;
+  why << "thin part: rotation about its own axis unobservable; cylinder r " << c.fit.radius_mm * 1e3
+      << " um seen over " << c.length_mm << " mm, tip " << c.distance_mm
+      << " mm from the prior, axial sampling " << c.spacing_mm * 1e3 << " um";
+  r.reason = why.str();
+  r.log.push_back(r.reason);
+}
+
+}  // namespace
+
+RegistrationResult detect_thin_part(const PointCloud& scan, const PointCloud& ref,
+                                    const RegistrationSettings& s) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const ThinSettings& t = s.thin;
+  const ThinProfile prof = thin_profile(ref, t);
+  if (prof.radius_mm <= 0) throw Error("reference cloud has no usable points");
+  if (!s.prior && !s.q0)
+    throw Error("a thin part is detected along its prior axis: give a prior pose or orientation");
+  const Eigen::Matrix3d R0 = s.prior ? s.prior->rotation() : s.q0->toRotationMatrix();
+  const Eigen::Vector3d a0 = R0.col(2);
+  const PointCloud near = near_prior_axis(scan, prof, a0, s);
   const PclCloud::Ptr all = to_pcl(near);
   const std::vector<int> lin = linear_points(*all, t);
   const PclCloud::Ptr cloud(new PclCloud);
@@ -334,30 +382,11 @@ RegistrationResult detect_thin_part(const PointCloud& scan, const PointCloud& re
                    : std::to_string(ok.size()) + " thin candidates and no prior position to choose";
     return r;
   }
-  const Candidate& c = *std::min_element(
-      ok.begin(), ok.end(),
-      [](const Candidate& x, const Candidate& y) { return x.distance_mm < y.distance_mm; });
-  // Pose: z along the fitted axis, the spin about it kept from the prior (unobservable).
-  Eigen::Matrix3d R;
-  R.col(2) = c.fit.axis;
-  Eigen::Vector3d x = R0.col(0) - c.fit.axis * c.fit.axis.dot(R0.col(0));
-  if (x.norm() < 1e-6) x = c.fit.axis.unitOrthogonal();
-  R.col(0) = x.normalized();
-  R.col(1) = R.col(2).cross(R.col(0));
-  r.T_scan_ref.linear() = R;
-  r.T_scan_ref.translation() = c.tip - R * prof.tip;
-  r.status = Status::Ambiguous;
-  r.unobservable = 1;
-  r.weakest_direction << c.fit.axis, Eigen::Vector3d::Zero();
-  r.fitness_mm2 = c.fit.rmse_mm * c.fit.rmse_mm, r.inlier_rmse_mm = c.fit.rmse_mm;
-  r.overlap = std::min(1.0, c.length_mm / prof.length_mm);
-  r.covariance = tip_covariance(c);
-  std::ostringstream why;
-  why << "thin part: rotation about its own axis unobservable; cylinder r " << c.fit.radius_mm * 1e3
-      << " um seen over " << c.length_mm << " mm, tip " << c.distance_mm
-      << " mm from the prior, axial sampling " << c.spacing_mm * 1e3 << " um";
-  r.reason = why.str();
-  r.log.push_back(r.reason);
+  thin_pose(*std::min_element(ok.begin(), ok.end(),
+                              [](const Candidate& x, const Candidate& y) {
+                                return x.distance_mm < y.distance_mm;
+                              }),
+            R0, prof, r);
   return r;
 }
 

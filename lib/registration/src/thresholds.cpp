@@ -62,7 +62,7 @@ void Thresholds::apply(RegistrationSettings& s, const std::string& object,
   const auto v = voxel_mm.find(object);
   const double voxel = v != voxel_mm.end() ? v->second : fallback_voxel_mm;
   s.pre.voxel_mm = voxel > 0 ? voxel * voxel_scale : 0;
-  s.refine.method = method;
+  apply_method(s, method);
   s.coarse.feature_radius_vox = feature_radius_vox;
   s.coarse.ransac_iterations = ransac_iterations;
   s.refine.max_correspondence_vox = max_correspondence_vox;
@@ -111,10 +111,11 @@ static Thresholds load_thresholds_unguarded(const std::string& path) {
   for (const auto& p : kParams) keys.insert(p.key);
   R.only(reg, "registration", keys);
   for (const auto& k : keys) R.need(reg, k, "registration");
-  t.method = R.str(reg, "method", "", "registration");
-  bool known = false;
-  for (const auto& m : refiner_names()) known |= m == t.method;
-  if (!known) R.fail("registration.method", "unknown method '" + t.method + "'");
+  try {
+    t.method = parse_enum<Method>(R.str(reg, "method", "", "registration"));
+  } catch (const Error& e) {
+    R.fail("registration.method", e.what());
+  }
   double iterations = 0;
   for (const auto& p : kParams)
     *field(t, p.key, iterations) =
@@ -154,7 +155,7 @@ std::string thresholds_yaml(const Thresholds& t) {
   val(t.held_out_success_rate, "fraction");
   o << "    median_translation_error: ";
   val(t.held_out_median_t_um, "um");
-  o << "registration:\n  method: " << t.method << "\n";
+  o << "registration:\n  method: " << name_of(t.method) << "\n";
   Thresholds copy = t;
   double iterations = t.ransac_iterations;
   for (const auto& p : kParams) {

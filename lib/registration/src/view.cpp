@@ -17,7 +17,7 @@ RegistrationResult register_in_view(const PointCloud& scan, const PointCloud& re
                                     const ViewSampler& view, const RegistrationSettings& s,
                                     int max_clusters) {
   RegistrationResult first = register_segmented(scan, ref, s, max_clusters);
-  if (!view || uses_thin_detector(ref, s) || !has_pose(first)) return first;
+  if (!view || !s.policies.view || uses_thin_detector(ref, s) || !has_pose(first)) return first;
   const auto t0 = std::chrono::steady_clock::now();
   const PointCloud seen = view(first.T_scan_ref);
   const double t_view =

@@ -14,7 +14,7 @@
 namespace laserfit::bench {
 
 struct RunSettings {
-  std::vector<std::string> methods;  // empty: the benchmark's own list
+  std::vector<registration::Method> methods;  // empty: the benchmark's own list
   Shard shard;
   std::string out_dir;                // results.jsonl, summary.csv, run.json, overlays/
   std::string dataset_dir;            // non-empty: read scans from a generated dataset

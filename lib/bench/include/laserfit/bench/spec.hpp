@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "laserfit/metrics/pose_error.hpp"
+#include "laserfit/registration/settings.hpp"
 
 namespace laserfit::bench {
 
@@ -66,7 +67,7 @@ struct Benchmark {
   std::string mode = "grid";  // grid: every combination of the axes' values; random: draws
   std::map<std::string, std::vector<double>> axes;  // grid: values; random: [min, max]
   double t_tol_mm = 0.05, r_tol_deg = 0.5;          // success tolerance
-  std::vector<std::string> methods = {"ceres"};     // default methods of `laserfit bench`
+  std::vector<registration::Method> methods = {registration::Method::Ceres};  // `laserfit bench`'s
   std::vector<SceneCase> scenes;
   uint64_t digest = 0;  // of the file's bytes: a resumed run must use the same file
 };

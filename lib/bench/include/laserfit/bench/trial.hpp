@@ -66,7 +66,8 @@ TrialInput read_trial(const PreparedScene& p, const std::string& scan_pcd,
 // Registration settings of a named method (paper: PCL SampleConsensusPrerejective + rho_rot on
 // its result + PCL ICP, no prior pose; the others: rho_rot inside RANSAC, the prior as the first
 // hypothesis, the named refiner), with tuned thresholds on top when given.
-registration::RegistrationSettings method_settings(const std::string& method, const Target& target,
+registration::RegistrationSettings method_settings(registration::Method method,
+                                                   const Target& target,
                                                    const registration::Thresholds* thresholds);
 
 // Can this scan determine target k's pose at all? The default method refined from the true pose,
@@ -80,7 +81,7 @@ AtTruth at_truth(const Benchmark& b, const PreparedScene& p, const Trial& t, con
                  size_t k, const registration::Thresholds* thresholds);
 
 struct TrialOptions {
-  std::vector<std::string> methods;
+  std::vector<registration::Method> methods;
   const registration::Thresholds* thresholds = nullptr;
   std::string overlay_dir;  // non-empty: write scan + registered reference clouds here
 };

@@ -24,7 +24,7 @@ struct Score {
 };
 
 struct TuneSettings {
-  std::string method = "ceres";
+  registration::Method method = registration::Method::Ceres;
   std::vector<int> train, test;     // repetitions of every cell
   std::vector<std::string> params;  // empty: all of tunable_params()
   int jobs = 1;

@@ -12,95 +12,13 @@
 
 #include "laserfit/core/cloud.hpp"
 #include "laserfit/core/pose.hpp"
+#include "laserfit/registration/settings.hpp"
 #include "laserfit/registration/thin.hpp"
 
 namespace laserfit::registration {
 
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
-
-struct PreprocessSettings {
-  double voxel_mm = 0.0;           // voxel grid leaf; 0 = auto (reference bbox diagonal / 150)
-  int outlier_neighbours = 20;     // statistical outlier removal: k neighbours ...
-  double outlier_std = 2.0;        // ... and the std-dev multiplier (0 disables the filter)
-  double normal_radius_vox = 3.0;  // normal estimation radius, in voxels
-  Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  // normals are flipped towards it (mm)
-  bool use_viewpoint = false;  // scan clouds: towards the sensor; references keep their own
-};
-
-struct CoarseSettings {
-  std::string method = "gated";        // gated: rho_rot tested on every RANSAC hypothesis;
-                                       // pcl: PCL SampleConsensusPrerejective, gate on its result
-  double voxel_factor = 2.0;           // features and RANSAC run on a grid this much coarser
-  double feature_radius_vox = 6.0;     // FPFH radius, in voxels
-  int ransac_iterations = 10000;       // SampleConsensusPrerejective iterations per attempt
-  int samples = 3;                     // correspondences per hypothesis
-  int correspondence_randomness = 10;  // k nearest features to pick from
-  double similarity = 0.85;            // edge-length similarity for pre-rejection (0..1)
-  double inlier_fraction = 0.25;       // of the (segmented) scan, for a hypothesis to be accepted
-  double max_correspondence_vox = 2.5;
-};
-
-struct RefineSettings {
-  std::string method = "ceres";         // see refiner_names(); "paper": PCL point-to-point ICP
-  double max_correspondence_vox = 2.0;  // ICP correspondence gate, in voxels
-  double initial_gate_mm = 1.0;         // ceres: first gate at least this (a prior's error)
-  int max_iterations = 60;              // per scale (ceres) / in total (PCL variants)
-  double convergence_mm = 1e-4;         // stop when the update moves points less than this
-  std::string robust_loss = "huber";    // ceres: huber | cauchy | tukey | none
-  double robust_scale_vox = 0.1;        // ceres: robust loss scale at the finest gate, in voxels
-                                        // (x4, x2 at the coarser gates)
-};
-
-struct TrustSettings {
-  double max_rmse_vox = 0.5;      // inlier RMSE above this (in voxels) -> failed
-  double min_overlap = 0.3;       // fraction of the reference explained -> else failed
-  double ambiguity_ratio = 1e-3;  // Hessian eigenvalue ratio (scaled) below -> ambiguous
-  // DoFs the task declares weak for this reference (its frame, unit; a needle's spin about its
-  // shaft, a plug's slide along itself): ambiguous about them below the looser ratio. Just above
-  // ambiguity_ratio (1.4e-3 to 3.5e-3) a needle's spin came back `ok` up to 1 deg off and a
-  // plug's slide 57 um off; the USB receptacle, pinned everywhere, stays above 3e-3.
-  std::optional<Eigen::Vector3d> weak_rotation, weak_translation;
-  double declared_weak_ratio = 1e-2;
-  // Block jackknife (jackknife.cpp): the pose re-solved with each of blocks^2 spatial blocks of
-  // the matched scan left out. Its spread, at the reference's origin, counts correlated
-  // residuals that sigma^2 H^-1 misses; above either limit -> ambiguous (0 = no limit). The
-  // limits are the success tolerance: a pose whose origin moves by more than that when
-  // one region is dropped is not known to that tolerance. On the o2ac panel (a 20 x 25 mm window
-  // 37 mm from its origin, the in-plane rotation pinned by two hole outlines) every wrong `ok`
-  // of 60 trials had sigma 0.23-2.9 mm; USB and needle poses stay under 12 um.
-  int jackknife_blocks = 4;            // per principal axis of the matched points
-  double max_sigma_mm = 0.05;          // jackknife sigma of the reference origin's position
-  double max_sigma_deg = 0.5;          // jackknife sigma of the rotation
-  double restart_agreement_mm = 0.02;  // restarts agree when the reference's points move less
-                                       // than this (RMS along their normals) between them
-  double polish_mm = 0.02;             // a robust point-to-plane polish of the final pose must move
-  double polish_deg = 0.2;             // it less than this, else failed (non-Ceres refiners)
-  // Slide search (slide.cpp): a pose flat along a translation not declared weak is refined again
-  // from poses slid along it by +-step, +-2 step ... up to the range, and a re-refinement the data
-  // pin is kept (mm; range 0 = off). A needle's eye is 1 mm long: steps well under it.
-  double slide_step_mm = 0.25;
-  double slide_range_mm = 2.0;
-};
-
-struct RegistrationSettings {
-  PreprocessSettings pre;
-  CoarseSettings coarse;
-  RefineSettings refine;
-  TrustSettings trust;
-  ThinSettings thin;  // thin parts (a thread) are detected, not registered
-  // Algorithm 1 of the paper.
-  double rho_icp_vox2 = 0.05;  // stop when ICP fitness (mean squared distance) < rho * voxel^2
-  double rho_rot_deg = 30.0;   // reject RANSAC poses farther than this from q0
-  std::optional<Eigen::Quaterniond> q0;  // prior orientation of the reference in the scan frame
-  std::optional<Pose> prior;             // prior pose (e.g. from the arm's kinematics): the first
-                              // hypothesis, then RANSAC; refinement only with skip_coarse
-  bool skip_coarse = false;
-  double prior_radius_mm = 1.0;  // segmentation: scan points this near the reference placed
-                                 // at the prior are a candidate part (the prior's error)
-  int max_attempts = 8;          // RANSAC + ICP rounds before giving up
-  uint64_t seed = 1;
-};
 
 enum class Status { Ok, Ambiguous, Failed };
 const char* status_name(Status s);
@@ -135,8 +53,6 @@ struct RegistrationResult {
 // Throws laserfit::Error on unusable input (empty or all-NaN clouds, nonsense settings).
 RegistrationResult register_cloud(const PointCloud& scan, const PointCloud& ref,
                                   const RegistrationSettings& settings);
-
-std::vector<std::string> refiner_names();
 
 // Standard deviation along its largest axis (mm) of a point `oc` away from the centre a pose
 // covariance ([rx ry rz (rad, about that centre), tx ty tz (mm)]) is taken about: the reference

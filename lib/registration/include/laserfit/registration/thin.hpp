@@ -11,12 +11,16 @@
 #include <vector>
 
 #include "laserfit/core/cloud.hpp"
+#include "laserfit/core/enum_names.hpp"
 
 namespace laserfit::registration {
 
+// auto: thin references (ThinSettings' diameter and aspect) are detected, not registered; on:
+// every reference; off: never.
+enum class ThinMode { Auto, On, Off };
+
 struct ThinSettings {
-  std::string mode = "auto";       // auto: thin references (below) are detected, not registered;
-                                   // on: every reference; off: never
+  ThinMode mode = ThinMode::Auto;
   double max_diameter_mm = 0.5;    // auto: a reference at most this thick ...
   double min_aspect = 5.0;         // ... and at least this many diameters long is thin
   double search_radius_mm = 10.0;  // candidates within this of the prior-placed reference's axis
@@ -25,9 +29,9 @@ struct ThinSettings {
   double max_cross_ratio = 0.35;   // ... a line's second principal spread is below this x the first
   double cluster_tolerance_mm = 0.25;  // line points further apart are separate candidates (a
                                        // thread returns nothing from some profiles)
-  int min_points = 15;          // per candidate
-  double fit_length_mm = 2.0;   // the cylinder is fitted to this much behind the seen tip
-  double min_length_mm = 0.3;   // seen length of a candidate along its axis
+  int min_points = 15;                 // per candidate
+  double fit_length_mm = 2.0;          // the cylinder is fitted to this much behind the seen tip
+  double min_length_mm = 0.3;          // seen length of a candidate along its axis
   double max_axis_deg = 30.0;   // candidate axis within this of the prior's (a +-20 deg prior)
   double axis_prior_deg = 2.0;  // the prior's axis is this good (sigma): the gripper holds the
                                 // thread straight; 0 = fit the axis freely
@@ -72,3 +76,14 @@ CylinderFit fit_cylinder(const std::vector<Eigen::Vector3d>& pts, const Eigen::V
                          const CylinderFitOptions& options = {});
 
 }  // namespace laserfit::registration
+
+namespace laserfit {
+template <>
+struct EnumNames<registration::ThinMode> {
+  static constexpr const char* what = "thin mode";
+  static constexpr std::pair<registration::ThinMode, const char*> table[] = {
+      {registration::ThinMode::Auto, "auto"},
+      {registration::ThinMode::On, "on"},
+      {registration::ThinMode::Off, "off"}};
+};
+}  // namespace laserfit

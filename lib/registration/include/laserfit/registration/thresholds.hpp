@@ -14,7 +14,7 @@ namespace laserfit::registration {
 
 struct Thresholds {
   // The parameters the tuning searches (defaults = RegistrationSettings' defaults).
-  std::string method = "ceres";            // refiner
+  Method method = Method::Ceres;
   double voxel_scale = 1.0;                // x each object's voxel (below)
   double feature_radius_vox = 6.0;         // FPFH radius, voxels
   int ransac_iterations = 10000;           // per attempt

@@ -1,0 +1,68 @@
+// register_cloud: the paper's Algorithm 1 as a driver over named stages (driver.hpp), then the
+// policies laserfit adds for automatic failure detection (the paper's future work), each of which
+// Policies can switch off. docs/design/registration.md has the measurement behind each.
+#include "driver.hpp"
+
+#include "laserfit/core/error.hpp"
+#include "slide.hpp"
+
+namespace laserfit::registration {
+
+RegistrationResult register_cloud(const PointCloud& scan, const PointCloud& ref,
+                                  const RegistrationSettings& s) {
+  check_inputs(scan, ref, s);
+  if (uses_thin_detector(ref, s)) return detect_thin_part(scan, ref, s);  // a thread: thin.hpp
+  RegistrationResult r;
+  const Problem p = prepare_problem(scan, ref, s, r);  // line 1: filter, downsample; FPFH
+  Attempts a = run_attempts(p, r);  // lines 2-8: RANSAC, d_phi gate, ICP, until rho_ICP
+  const auto t = Clock::now();
+  std::optional<Candidate> best = keep_best(p, a, r);  // line 9, assessed (trust.cpp)
+  if (best) {
+    if (s.policies.prefer_prior) prefer_prior(p, a, *best, r);
+    measure_plateau(p, a, *best, r);
+    slide(p, a, *best, r);  // off with trust.slide_range_mm = 0
+    if (s.policies.polish) polish(p, *best, r);
+    if (s.policies.rivals) reject_rivals(p, a, *best, r);
+    if (s.policies.confirm) require_confirmation(p, a, *best, r);
+    check_pinned(s.trust, r);  // the block jackknife: off with trust.jackknife_blocks = 0
+  }
+  const auto sl = r.timings_s.find("slide");
+  r.timings_s["assess"] = since(t) - (sl == r.timings_s.end() ? 0.0 : sl->second);
+  return r;
+}
+
+void check_inputs(const PointCloud& scan, const PointCloud& ref, const RegistrationSettings& s) {
+  auto finite = [](const PointCloud& c) {
+    size_t n = 0;
+    for (const auto& p : c.points) n += p.allFinite();
+    return n;
+  };
+  if (finite(scan) < 10) throw Error("scan has no usable points (empty or all NaN)");
+  if (finite(ref) < 10) throw Error("reference cloud has no usable points");
+  check_slide_settings(s.trust);
+}
+
+const char* status_name(Status s) {
+  switch (s) {
+    case Status::Ok:
+      return "ok";
+    case Status::Ambiguous:
+      return "ambiguous";
+    case Status::Failed:
+      return "failed";
+  }
+  return "?";
+}
+
+std::string fmt(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.4g", v);
+  return b;
+}
+
+std::string fmt_t(const Pose& T) {
+  return "t = [" + fmt(T.translation().x()) + ", " + fmt(T.translation().y()) + ", " +
+         fmt(T.translation().z()) + "]";
+}
+
+}  // namespace laserfit::registration
