@@ -6,6 +6,7 @@
 // Run: make bench-registration-speed -> reports/registration/.
 #include <benchmark/benchmark.h>
 
+#include "laserfit/registration/preprocess.hpp"
 #include "laserfit/registration/registration.hpp"
 #include "laserfit/sampling/sampling.hpp"
 #include "laserfit/scan/reference.hpp"
@@ -99,6 +100,33 @@ BENCHMARK(BM_RegisterPlug1MInView)
     ->UseRealTime()
     ->Repetitions(5)
     ->ReportAggregatesOnly(true);
+
+// The stages on the same scan, one at a time (where a registration's time goes).
+void BM_StageSegment1M(benchmark::State& st) {  // register_segmented's clustering of the scan
+  const Fixture& f = fixture();
+  const double voxel = registration::auto_voxel_mm(f.ref);
+  size_t parts = 0;
+  for (auto _ : st) parts = registration::segment_clusters(f.scan, voxel, 3 * voxel, 20).size();
+  st.counters["parts"] = double(parts);
+}
+BENCHMARK(BM_StageSegment1M)->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(3);
+
+void BM_StageCropNearPrior1M(benchmark::State& st) {  // the candidate part near the prior
+  const Fixture& f = fixture();
+  size_t n = 0;
+  for (auto _ : st) n = registration::crop_near(f.scan, f.ref, f.nominal, 1.0).points.size();
+  st.counters["points"] = double(n);
+}
+BENCHMARK(BM_StageCropNearPrior1M)->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(3);
+
+void BM_StageMixedPixels1M(benchmark::State& st) {
+  const Fixture& f = fixture();
+  for (auto _ : st) {
+    PointCloud c = f.scan;
+    benchmark::DoNotOptimize(registration::remove_mixed_pixels(c));
+  }
+}
+BENCHMARK(BM_StageMixedPixels1M)->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(3);
 
 }  // namespace
 

@@ -5,6 +5,7 @@
 
 #include "laserfit/registration/preprocess.hpp"
 #include "pcl_types.hpp"
+#include "stages.hpp"
 
 namespace laserfit::registration {
 
@@ -12,8 +13,8 @@ std::vector<PointCloud> segment_clusters(const PointCloud& scan, double voxel_mm
                                          double tolerance_mm, size_t min_points) {
   PreprocessSettings pre;
   pre.outlier_std = 2.0;
-  const PointCloud down = preprocess(scan, pre, voxel_mm);  // normals unused here
-  const PclCloud::Ptr cloud = to_pcl(down);
+  // Downsampled and filtered as for registration, without normals: clustering needs none.
+  const PclCloud::Ptr cloud = sample_and_filter(to_pcl(scan), pre, voxel_mm);
   Tree::Ptr tree(new Tree);
   tree->setInputCloud(cloud);
   pcl::EuclideanClusterExtraction<PointT> ec;
