@@ -418,9 +418,8 @@ TEST(Bench, TheViewResampledAtThePoseFoundConfirmsATurnedSocket) {
   ASSERT_EQ(tg.object, "usb_a_receptacle");
   auto rs = bench::method_settings(registration::Method::Ceres, tg, nullptr);
   rs.q0 = Eigen::Quaterniond(in.prior[k].rotation()), rs.prior = in.prior[k], rs.seed = t.seed;
-  std::istringstream vp(in.scan.metadata.at("viewpoint"));
-  rs.pre.use_viewpoint = true;
-  vp >> rs.pre.viewpoint.x() >> rs.pre.viewpoint.y() >> rs.pre.viewpoint.z();
+  ASSERT_TRUE(in.scan.sensor_origin);
+  rs.pre.use_viewpoint = true, rs.pre.viewpoint = *in.scan.sensor_origin;
   const auto once = registration::register_segmented(in.scan, p.reference[k], rs, 2);
   EXPECT_EQ(once.status, registration::Status::Failed) << once.reason;
   int sampled = 0;

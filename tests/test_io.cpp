@@ -28,6 +28,7 @@ PointCloud small_cloud(bool organized) {
   }
   c.metadata["seed"] = "17";
   c.metadata["source"] = "a file\nwith a newline";
+  c.sensor_origin = Eigen::Vector3d(512.3, -40.700000000000003, 0.1 + 0.2);  // not 10 digits
   return c;
 }
 }  // namespace
@@ -53,6 +54,9 @@ TEST(CloudIo, PcdAndPlyRoundTripBitExact) {
         EXPECT_EQ(r.height, c.height);
       }
       EXPECT_EQ(r.metadata.at("seed"), "17");
+      ASSERT_TRUE(r.sensor_origin);
+      EXPECT_EQ(*r.sensor_origin, *c.sensor_origin);  // bit-exact
+      EXPECT_EQ(r.metadata.count("viewpoint"), 0u);   // one place for it: the typed field
       EXPECT_EQ(r.metadata.at("source"), "a file with a newline");
     }
   }
@@ -67,8 +71,11 @@ TEST(CloudIo, RefusesBadFiles) {
   test::write_text(dir / "garbage.pcd", "not a point cloud at all\n");
   test::write_text(dir / "garbage.ply",
                    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n");
-  for (const char* f :
-       {"truncated.pcd", "empty.pcd", "garbage.pcd", "garbage.ply", "missing.pcd"}) {
+  std::string vp = good;  // a sensor origin that is not three numbers
+  vp.replace(vp.find("# laserfit.viewpoint "), 21, "# laserfit.viewpoint x");
+  test::write_text(dir / "bad_viewpoint.pcd", vp);
+  for (const char* f : {"truncated.pcd", "empty.pcd", "garbage.pcd", "garbage.ply", "missing.pcd",
+                        "bad_viewpoint.pcd"}) {
     SCOPED_TRACE(f);
     try {
       io::read_cloud(dir / f);

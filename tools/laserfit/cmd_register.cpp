@@ -108,10 +108,10 @@ int run(const Options& o) {
     if (std::abs(q.norm() - 1) > 1e-3) throw Error("--q0: not a unit quaternion");
     s.q0 = q.normalized();
   }
-  const std::string vp = !o.viewpoint.empty()               ? o.viewpoint
-                         : scan.metadata.count("viewpoint") ? scan.metadata.at("viewpoint")
-                                                            : "";
-  if (!vp.empty()) s.pre.use_viewpoint = true, s.pre.viewpoint = parse_vec3(vp, "viewpoint");
+  if (!o.viewpoint.empty())
+    s.pre.use_viewpoint = true, s.pre.viewpoint = parse_vec3(o.viewpoint, "--viewpoint");
+  else if (scan.sensor_origin)
+    s.pre.use_viewpoint = true, s.pre.viewpoint = *scan.sensor_origin;
 
   io::Json results = io::Json::array();
   std::ostringstream h;

@@ -31,13 +31,9 @@ registration::RegistrationSettings method_settings(registration::Method method,
 namespace {
 
 Eigen::Vector3d viewpoint_of(const PointCloud& scan) {
-  const auto it = scan.metadata.find("viewpoint");
-  if (it == scan.metadata.end())
-    throw Error("the scan has no laserfit.viewpoint (not a laserfit scan?)");
-  std::istringstream in(it->second);
-  Eigen::Vector3d v;
-  if (!(in >> v.x() >> v.y() >> v.z())) throw Error("bad laserfit.viewpoint '" + it->second + "'");
-  return v;
+  if (!scan.sensor_origin)
+    throw Error("the scan has no sensor origin (laserfit.viewpoint; not a laserfit scan?)");
+  return *scan.sensor_origin;
 }
 
 // The scan near the registered reference (label 0) and the reference at the estimate (label 1),
@@ -52,8 +48,8 @@ void write_overlay(const std::string& path, const PointCloud& scan, const PointC
   }
   o.normals.clear();
   o.width = int(o.points.size()), o.height = 1;
-  o.metadata = {{"viewpoint", scan.metadata.at("viewpoint")},
-                {"overlay", "label 0 scan, 1 registered reference"}};
+  o.sensor_origin = scan.sensor_origin;
+  o.metadata = {{"overlay", "label 0 scan, 1 registered reference"}};
   io::write_cloud(path, o);
 }
 

@@ -10,10 +10,8 @@ namespace laserfit::controller {
 namespace {
 
 Eigen::Vector3d viewpoint(const PointCloud& scan) {
-  std::istringstream in(scan.metadata.count("viewpoint") ? scan.metadata.at("viewpoint") : "");
-  Eigen::Vector3d v;
-  if (!(in >> v.x() >> v.y() >> v.z())) throw Error("the scan has no laserfit.viewpoint header");
-  return v;
+  if (!scan.sensor_origin) throw Error("the scan has no sensor origin (laserfit.viewpoint header)");
+  return *scan.sensor_origin;
 }
 
 registration::RegistrationResult register_one(const PointCloud& scan, const PointCloud& ref,

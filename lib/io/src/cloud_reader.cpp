@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "cloud_codec.hpp"
 #include "laserfit/core/error.hpp"
@@ -114,6 +115,15 @@ PointCloud read_cloud(const std::string& path) {
   PointCloud c = decode_cloud(
       run_isolated(path, reader, {}, [&] { return encode_cloud(read_with_pcl(path, ext)); }), path);
   c.metadata = read_header_metadata(path);
+  if (const auto vp = c.metadata.find("viewpoint"); vp != c.metadata.end()) {
+    std::istringstream in(vp->second);
+    Eigen::Vector3d v;
+    std::string rest;
+    if (!(in >> v.x() >> v.y() >> v.z()) || (in >> rest) || !v.allFinite())
+      throw Error(path, "laserfit.viewpoint '" + vp->second + "' is not three finite numbers (mm)");
+    c.sensor_origin = v;
+    c.metadata.erase(vp);
+  }
   return c;
 }
 

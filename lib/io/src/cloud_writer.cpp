@@ -1,5 +1,7 @@
+#include <charconv>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <vector>
 
 #include "laserfit/core/atomic_file.hpp"
@@ -24,11 +26,27 @@ std::vector<float> interleave(const PointCloud& c) {
   return buf;
 }
 
+// The header's laserfit.* lines: the metadata and the sensor origin (shortest round-trip decimal).
+std::map<std::string, std::string> header_metadata(const PointCloud& c) {
+  std::map<std::string, std::string> m;
+  for (const auto& [k, v] : c.metadata) m[k] = one_line(v);
+  if (c.sensor_origin) {
+    std::string vp;
+    for (int i = 0; i < 3; ++i) {
+      char b[32];
+      const auto r = std::to_chars(b, b + sizeof b, (*c.sensor_origin)[i]);
+      vp += (i ? " " : "") + std::string(b, r.ptr);
+    }
+    m["viewpoint"] = vp;
+  }
+  return m;
+}
+
 void write_pcd(std::ostream& out, const PointCloud& c) {
   const bool n = c.has_normals(), l = !c.labels.empty();
   const int fields = 3 + (n ? 3 : 0) + (l ? 1 : 0);
   out << "# .PCD v0.7 - Point Cloud Data file format\n";
-  for (const auto& [k, v] : c.metadata) out << "# laserfit." << k << " " << one_line(v) << "\n";
+  for (const auto& [k, v] : header_metadata(c)) out << "# laserfit." << k << " " << v << "\n";
   out << "VERSION 0.7\nFIELDS x y z" << (n ? " normal_x normal_y normal_z" : "")
       << (l ? " label" : "") << "\nSIZE";
   for (int i = 0; i < fields; ++i) out << " 4";
@@ -42,8 +60,7 @@ void write_pcd(std::ostream& out, const PointCloud& c) {
 
 void write_ply(std::ostream& out, const PointCloud& c) {
   out << "ply\nformat binary_little_endian 1.0\n";
-  for (const auto& [k, v] : c.metadata)
-    out << "comment laserfit." << k << " " << one_line(v) << "\n";
+  for (const auto& [k, v] : header_metadata(c)) out << "comment laserfit." << k << " " << v << "\n";
   if (c.organized()) out << "obj_info width " << c.width << " height " << c.height << "\n";
   out << "element vertex " << c.size() << "\n"
       << "property float x\nproperty float y\nproperty float z\n";

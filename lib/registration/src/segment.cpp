@@ -39,7 +39,7 @@ std::vector<PointCloud> segment_clusters(const PointCloud& scan, double voxel_mm
         if (labels) c.labels.push_back(scan.labels[i]);
       }
     c.width = static_cast<int>(c.points.size());
-    c.metadata = scan.metadata;
+    c.metadata = scan.metadata, c.sensor_origin = scan.sensor_origin;
     out.push_back(std::move(c));
   }
   return out;

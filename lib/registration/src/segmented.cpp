@@ -26,7 +26,7 @@ PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& 
     }
   }
   PointCloud out;
-  out.metadata = scan.metadata;
+  out.metadata = scan.metadata, out.sensor_origin = scan.sensor_origin;
   if (placed.empty()) return out;
   box.min().array() -= float(radius), box.max().array() += float(radius);
   std::vector<size_t> at;

@@ -234,9 +234,7 @@ ReportSummary make_report(const ReportSettings& s) {
   if (!overlay_files.empty()) md << "### Registration overlays (first trial of each scene)\n\n";
   for (const auto& f : overlay_files) {
     const PointCloud c = io::read_cloud(f);
-    std::istringstream vp(c.metadata.count("viewpoint") ? c.metadata.at("viewpoint") : "0 0 1000");
-    Eigen::Vector3d v;
-    vp >> v.x() >> v.y() >> v.z();
+    const Eigen::Vector3d v = c.sensor_origin.value_or(Eigen::Vector3d(0, 0, 1000));
     const std::string name = fs::path(f).stem().string(), file = "overlay_" + name + ".png";
     render_overlay(s.out_dir + "/" + file, c, v, name);
     figure(file, "Overlay " + name +

@@ -189,13 +189,8 @@ ScanResult simulate_scan(const ScanScene& sc) {
   r.cloud.metadata["unit"] = r.raw.metadata["unit"] = "mm";
   if (!sc.file.empty()) r.cloud.metadata["scene"] = r.raw.metadata["scene"] = sc.file;
   r.cloud.metadata["noise"] = s.noise.enabled ? "on" : "off";
-  {  // where the sensor was (mid-sweep, nominal): registration orients scan normals towards it
-    const Eigen::Vector3d v = r.T_base_sensor_nominal[mid].translation();
-    std::ostringstream vp;
-    vp.precision(10);
-    vp << v.x() << " " << v.y() << " " << v.z();
-    r.cloud.metadata["viewpoint"] = vp.str();
-  }
+  // Where the sensor was (mid-sweep, nominal): registration orients scan normals towards it.
+  r.cloud.sensor_origin = r.T_base_sensor_nominal[mid].translation();
   r.timings.laser_s = a.laser_ns * 1e-9;
   r.timings.camera_s = a.camera_ns * 1e-9;
   r.timings.noise_s = a.noise_ns * 1e-9;

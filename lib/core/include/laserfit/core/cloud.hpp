@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,7 +17,10 @@ struct PointCloud {
   std::vector<int32_t> labels;           // per point (e.g. which object), empty when not known
   int width = 0;                         // points per row (organized) or size (unorganized)
   int height = 1;                        // rows; 1 for unorganized
-  // Provenance written into the file header (source, unit, seed, viewpoints ...).
+  // Where the sensor was, in the cloud's frame (mm; PCL's sensor_origin_): a scan's normals face
+  // it. Written to and read from the file header as "laserfit.viewpoint x y z".
+  std::optional<Eigen::Vector3d> sensor_origin;
+  // Provenance written into the file header (source, unit, seed ...).
   std::map<std::string, std::string> metadata;
 
   size_t size() const { return points.size(); }
