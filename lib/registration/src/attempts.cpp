@@ -7,6 +7,7 @@
 
 #include "driver.hpp"
 #include "laserfit/registration/preprocess.hpp"
+#include "reference_cache.hpp"
 
 namespace laserfit::registration {
 
@@ -18,23 +19,20 @@ Problem prepare_problem(const PointCloud& scan_in, const PointCloud& ref_in,
   p.matcher = {s.refine.max_correspondence_vox * p.voxel, s.pre.use_viewpoint};
   p.coarse = !(s.skip_coarse && s.prior);
   auto t = Clock::now();
-  PreprocessSettings ref_pre = s.pre;
-  ref_pre.use_viewpoint = false, ref_pre.outlier_std = 0;  // CAD samples have no outliers
   p.scan = prepare(scan_in, s.pre, p.voxel);
-  // The reference keeps its dense CAD samples and exact normals for refinement and assessment;
-  // without normals, they are estimated.
-  p.ref = ref_in.has_normals() ? to_pcl(ref_in) : prepare(ref_in, ref_pre, p.voxel);
   r.timings_s["preprocess"] = since(t);
 
   t = Clock::now();
-  p.scan_tree.reset(new Tree), p.ref_tree.reset(new Tree);
+  const auto ref = prepared_reference(ref_in, s, p.voxel, p.coarse);
+  p.ref = ref->ref, p.ref_tree = ref->tree, p.ref_c = ref->coarse, p.ref_f = ref->features;
+  r.timings_s["reference"] = since(t);
+
+  t = Clock::now();
+  p.scan_tree.reset(new Tree);
   p.scan_tree->setInputCloud(p.scan);
-  p.ref_tree->setInputCloud(p.ref);
   if (p.coarse) {
     const double cvox = s.coarse.voxel_factor * p.voxel;
     p.scan_c = coarser(p.scan, cvox, s.pre, false);
-    p.ref_c = coarser(p.ref, cvox, ref_pre, true);
-    p.ref_f = fpfh(p.ref_c, s.coarse.feature_radius_vox * cvox);
     p.scan_f = fpfh(p.scan_c, s.coarse.feature_radius_vox * cvox);
   }
   r.timings_s["features"] = since(t);
