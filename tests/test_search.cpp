@@ -145,3 +145,27 @@ TEST(Search, BatchedQueriesEqualSinglePointOnes) {
   EXPECT_EQ(idx.back(), -1);
   EXPECT_FALSE(near.back());
 }
+
+// The grid within_radius answers exactly as the kd-tree one, for radii from below the points'
+// spacing to most of the cloud's size, queries inside, near and far from it; and a grid that
+// would be too large (points 1 km apart at a 1 um radius) falls back to the kd-tree.
+TEST(Search, GridWithinRadiusEqualsTheKdTree) {
+  const auto c = random_cloud(5000, 12, true);
+  std::vector<Eigen::Vector3f> pts;
+  for (const auto& p : *c) pts.push_back(p.getVector3fMap());
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<float> u(-3.f, 3.f);
+  std::vector<Eigen::Vector3f> qs;
+  for (int i = 0; i < 4000; ++i) qs.emplace_back(u(rng), u(rng), u(rng));
+  for (size_t i = 0; i < 2000; ++i) qs.push_back(pts[i * 2] + Eigen::Vector3f(1e-3f, 0, 0));
+  qs.push_back(Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN()));
+  for (const double r : {0.001, 0.01, 0.05, 0.3, 2.0}) {
+    SCOPED_TRACE(r);
+    const auto grid = within_radius(pts, qs, r), tree = within_radius_kdtree(pts, qs, r);
+    ASSERT_EQ(grid, tree);
+    EXPECT_EQ(grid.back(), 0);  // the NaN query
+  }
+  const std::vector<Eigen::Vector3f> far = {{0, 0, 0}, {1e6f, 0, 0}};
+  const std::vector<Eigen::Vector3f> at = {{0, 0, 0.0005f}, {1e6f, 0.002f, 0}};
+  EXPECT_EQ(within_radius(far, at, 0.001), (std::vector<char>{1, 0}));
+}

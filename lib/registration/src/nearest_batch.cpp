@@ -143,8 +143,8 @@ void Tree::nearest_batch(const std::vector<Eigen::Vector3f>& queries, std::vecto
   for (size_t k = 0; k < at.size(); ++k) idx[at[k]] = int(b->id[found[k]]), d2[at[k]] = dist[k];
 }
 
-std::vector<char> within_radius(const std::vector<Eigen::Vector3f>& points,
-                                const std::vector<Eigen::Vector3f>& queries, double radius) {
+std::vector<char> within_radius_kdtree(const std::vector<Eigen::Vector3f>& points,
+                                       const std::vector<Eigen::Vector3f>& queries, double radius) {
   std::vector<char> near(queries.size(), 0);
   std::vector<float> xyz, q;
   std::vector<size_t> from, at;

@@ -47,10 +47,13 @@ class Tree : public pcl::search::KdTree<PointT> {
   mutable std::unique_ptr<std::once_flag> once_ = std::make_unique<std::once_flag>();
 };
 
-// near[i] = 1 when queries[i] has a point of `points` within `radius` (mm), by one bounded FLANN
-// search over all queries (see nearest_batch); non-finite queries are never near.
+// near[i] = 1 when queries[i] has a point of `points` strictly within `radius` (mm); non-finite
+// queries are never near. On a uniform grid (within_radius.cpp); the kd-tree version (one bounded
+// FLANN search over all queries, nearest_batch.cpp) answers where the grid would be too large.
 std::vector<char> within_radius(const std::vector<Eigen::Vector3f>& points,
                                 const std::vector<Eigen::Vector3f>& queries, double radius);
+std::vector<char> within_radius_kdtree(const std::vector<Eigen::Vector3f>& points,
+                                       const std::vector<Eigen::Vector3f>& queries, double radius);
 
 // Finite points only (NaN = no measurement); normals copied when present.
 PclCloud::Ptr to_pcl(const PointCloud& c);
