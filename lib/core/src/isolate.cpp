@@ -28,6 +28,9 @@
 #define LASERFIT_ASAN 1
 #endif
 #endif
+#ifdef LASERFIT_ASAN
+#include <sanitizer/common_interface_defs.h>
+#endif
 
 namespace laserfit {
 namespace {
@@ -83,6 +86,11 @@ std::string seconds(double s) {
   ::setrlimit(RLIMIT_CORE, &no_core);
   // A crash is the parent's to report: no sanitizer or debugger handler of the parent's runs.
   for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) std::signal(sig, SIG_DFL);
+#ifdef LASERFIT_ASAN
+  // Under ASan the signals stay ASan's, and a parser's crash ends in ASan's death callback: a
+  // fuzzer's (libFuzzer's) would file the parent's input as its own finding, from the child.
+  __sanitizer_set_death_callback(nullptr);
+#endif
 #ifndef LASERFIT_ASAN  // AddressSanitizer reserves terabytes of address space for its shadow
   // The limit is on what the reader adds: the forked process already maps what the parent
   // mapped (libraries, thread stacks, a benchmark's data), which can be gigabytes.
