@@ -4,6 +4,7 @@
 
 #include "driver.hpp"
 #include "laserfit/cad/import.hpp"
+#include "laserfit/core/error.hpp"
 #include "laserfit/sampling/sampling.hpp"
 #include "test_util.hpp"
 
@@ -161,4 +162,25 @@ TEST(Policies, EachCanBeSwitchedOffInTheDriver) {
   ASSERT_NE(r.status, reg::Status::Failed) << r.reason;
   EXPECT_LT((r.T_scan_ref.translation() - P.T_scan_ref.translation()).norm(), 0.02);  // 20 um
   EXPECT_EQ(r.sigma_origin_mm, 0.0);  // the jackknife did not run
+}
+
+TEST(Policies, TheEntryPointComposesTheStages) {
+  // register_scan is register_cloud with segmentation off and register_segmented with it on
+  // (bit-identical poses), and says which candidate part it registered.
+  const Plug& P = plug();
+  reg::RegistrationSettings s = P.s;
+  s.q0 = Eigen::Quaterniond(P.T_scan_ref.rotation());
+  s.segment.enabled = false;
+  const auto whole = reg::register_scan(P.scan, P.ref, s);
+  EXPECT_EQ(whole.T_scan_ref.matrix(), reg::register_cloud(P.scan, P.ref, s).T_scan_ref.matrix());
+  EXPECT_EQ(whole.part, -1);
+  s.segment.enabled = true, s.segment.max_clusters = 2;
+  int cluster = -2;
+  const auto seg = reg::register_segmented(P.scan, P.ref, s, 2, &cluster);
+  const auto entry = reg::register_scan(P.scan, P.ref, s);
+  EXPECT_EQ(entry.T_scan_ref.matrix(), seg.T_scan_ref.matrix());
+  EXPECT_EQ(entry.part, cluster);
+  EXPECT_GE(entry.part, 0);
+  s.segment.max_clusters = 0;
+  EXPECT_THROW(reg::register_scan(P.scan, P.ref, s), Error);
 }

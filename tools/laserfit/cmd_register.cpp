@@ -93,6 +93,7 @@ int run(const Options& o) {
     return x;
   };
   s.max_attempts = o.attempts;
+  s.segment.enabled = !o.no_segment, s.segment.max_clusters = o.max_clusters;
   s.seed = o.seed;
   s.thin.mode = parse_enum<registration::ThinMode>(o.thin),
   s.thin.axis_prior_deg = o.thin_axis_sigma;
@@ -120,15 +121,13 @@ int run(const Options& o) {
     const registration::RegistrationSettings rs = settings_for(
         !o.object.empty() ? o.object : std::filesystem::path(ref_path).stem().string());
     registration::RegistrationResult r;
-    int cluster = -1;
     try {
-      r = o.no_segment ? registration::register_cloud(scan, ref, rs)
-                       : registration::register_segmented(scan, ref, rs, o.max_clusters, &cluster);
+      r = registration::register_scan(scan, ref, rs);
     } catch (const Error& e) {
       throw Error(o.scan + " vs " + ref_path, e.what());
     }
     results.push_back(result_json(ref_path, r));
-    results.back()["cluster"] = cluster;
+    results.back()["cluster"] = r.part;
     const auto tq = pose_to_tq(r.T_scan_ref);
     h << ref_path << ": " << registration::status_name(r.status)
       << (r.reason.empty() ? "" : " (" + r.reason + ")") << "\n  T_scan_ref  t = [" << tq[0] << ", "
@@ -184,7 +183,8 @@ Command add_register(CLI::App& root) {
   app->add_option("--seed", o->seed, "RANSAC seed")->capture_default_str();
   app->add_flag("--no-segment", o->no_segment, "register against the whole scan (one part only)");
   app->add_option("--max-clusters", o->max_clusters,
-                  "try the reference against this many largest parts")
+                  "candidate parts tried: near the prior (else the largest) first")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   app->add_option("--thresholds", o->thresholds,
                   "tuned thresholds (laserfit tune) instead of the defaults; "

@@ -198,7 +198,8 @@ std::vector<io::Json> run_trial(const Benchmark& b, const PreparedScene& p, cons
             return scan::view_reference(p.reference_mesh[k], T_scan_ref, p.scene.settings,
                                         tg.reference_points, b.seed);
           };
-        res = registration::register_in_view(in.scan, p.reference[k], view, rs, 2);
+        rs.segment.max_clusters = 2;
+        res = registration::register_scan(in.scan, p.reference[k], rs, view);
       } catch (const Error& e) {  // unusable scan for this target: a failure of the trial
         res.status = registration::Status::Failed;
         res.reason = std::string("error: ") + e.what();

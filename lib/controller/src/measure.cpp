@@ -34,8 +34,9 @@ registration::RegistrationResult register_one(const PointCloud& scan, const Poin
   rs.q0 = Eigen::Quaterniond(prior.rotation());
   rs.pre.use_viewpoint = true, rs.pre.viewpoint = viewpoint(scan);
   rs.seed = seed;
+  rs.segment.max_clusters = 2;  // the points near the prior, then the nearest cluster
   try {
-    return registration::register_segmented(scan, ref, rs, 2);
+    return registration::register_scan(scan, ref, rs);
   } catch (const Error& e) {
     registration::RegistrationResult r;
     r.status = registration::Status::Failed;

@@ -31,6 +31,13 @@ RegistrationResult register_cloud(const PointCloud& scan, const PointCloud& ref,
   return r;
 }
 
+RegistrationResult register_scan(const PointCloud& scan, const PointCloud& ref,
+                                 const RegistrationSettings& s, const ViewSampler& view) {
+  if (!s.segment.enabled) return register_cloud(scan, ref, s);
+  if (s.segment.max_clusters < 1) throw Error("segment.max_clusters must be at least 1");
+  return register_in_view(scan, ref, view, s, s.segment.max_clusters);
+}
+
 void check_inputs(const PointCloud& scan, const PointCloud& ref, const RegistrationSettings& s) {
   auto finite = [](const PointCloud& c) {
     size_t n = 0;

@@ -185,6 +185,7 @@ RegistrationResult register_segmented(const PointCloud& scan_in, const PointClou
   auto [best, best_i] = register_parts(parts, order, ref, s, max_clusters);
   if (s.policies.regrow && regrow(scan, ref, s, best)) best_i = int(parts.size());
   if (cluster) *cluster = best_i;
+  best.part = best_i;
   best.timings_s["segment"] = t_segment;
   best.log.push_back("segmentation: " + std::to_string(parts.size()) +
                      " candidate parts, registered part " + std::to_string(best_i));

@@ -45,9 +45,22 @@ struct RegistrationResult {
   // the attempts that fit as well converged; the plateau the slide search covers.
   double flat_from_mm = 0, flat_to_mm = 0;
   double voxel_mm = 0;
+  int part = -1;  // the candidate part registered (register_segmented's index; -1: the whole scan)
   std::map<std::string, double> timings_s;  // per stage
   std::vector<std::string> log;             // one line per attempt and decision
 };
+
+// What a scanner sees of the part placed at T_scan_ref (a view reference, e.g.
+// scan::view_reference).
+using ViewSampler = std::function<PointCloud(const Pose& T_scan_ref)>;
+
+// The entry point the CLI, the benchmark runner and the controller call: `ref`'s pose in `scan`.
+// Segmented (settings.segment) or the whole scan; with `view`, registered once more against the
+// view sampled at the pose found (register_in_view). The functions below are its stages.
+// Throws laserfit::Error on unusable input (empty or all-NaN clouds, nonsense settings).
+RegistrationResult register_scan(const PointCloud& scan, const PointCloud& ref,
+                                 const RegistrationSettings& settings,
+                                 const ViewSampler& view = {});
 
 // Registers `scan` (organized or not, NaN allowed) against `ref` (with normals).
 // Throws laserfit::Error on unusable input (empty or all-NaN clouds, nonsense settings).
@@ -96,9 +109,6 @@ RegistrationResult register_segmented(const PointCloud& scan, const PointCloud& 
                                       const RegistrationSettings& settings, int max_clusters = 4,
                                       int* cluster = nullptr);
 
-// What a scanner sees of the part placed at T_scan_ref (a view reference, e.g.
-// scan::view_reference).
-using ViewSampler = std::function<PointCloud(const Pose& T_scan_ref)>;
 // A view reference depends on the pose it is seen at. Sampled at the prior, it shows walls that a
 // part turned away from the prior no longer shows and lacks those it turned toward; a socket
 // turned by 15-20 deg fitted its scan at 8-24 um RMS instead of 2.5 um, and RANSAC, matching

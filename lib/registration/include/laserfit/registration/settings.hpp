@@ -86,6 +86,12 @@ struct TrustSettings {
   double slide_range_mm = 2.0;
 };
 
+// register_scan splits the scan into candidate parts (register_segmented) unless switched off.
+struct SegmentSettings {
+  bool enabled = true;   // off: the whole scan is the part (register_cloud)
+  int max_clusters = 4;  // candidate parts tried, nearest the prior (else largest) first
+};
+
 // What laserfit adds to Algorithm 1 for its trust decision, each a stage that can be switched off
 // (docs/design/registration.md has the measurement behind each). Two more are switched off by
 // their own settings: the slide search by trust.slide_range_mm = 0, the block jackknife by
@@ -109,6 +115,7 @@ struct RegistrationSettings {
   TrustSettings trust;
   ThinSettings thin;  // thin parts (a thread) are detected, not registered
   Policies policies;
+  SegmentSettings segment;
   // Algorithm 1 of the paper.
   double rho_icp_vox2 = 0.05;  // stop when ICP fitness (mean squared distance) < rho * voxel^2
   double rho_rot_deg = 30.0;   // reject RANSAC poses farther than this from q0
