@@ -121,11 +121,7 @@ static ScanScene load_scene_unguarded(const std::string& path) {
   R.only(root, "scene", {"seed", "objects", "sensor", "sweep", "noise", "motion"});
   ScanScene sc;
   sc.file = path;
-  if (root["seed"]) {
-    const double seed = R.num(root, "seed", 1, "scene");
-    if (seed < 0 || seed != std::floor(seed)) R.fail("seed", "must be a non-negative integer");
-    sc.seed = static_cast<uint64_t>(seed);
-  }
+  sc.seed = R.seed(root, "seed", sc.seed, "scene");
   if (root["sensor"]) read_sensor(R, root["sensor"], sc.settings.sensor);
   if (!root["sweep"]) R.fail("scene", "missing 'sweep'");
   read_sweep(R, root["sweep"], sc.settings.sweep);

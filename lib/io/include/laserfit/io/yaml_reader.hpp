@@ -4,10 +4,12 @@
 // is reported as "<file>: <where>: <what>".
 #include <yaml-cpp/yaml.h>
 
+#include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
-#include <ios>
 #include <initializer_list>
+#include <ios>
 #include <set>
 #include <sstream>
 #include <string>
@@ -52,6 +54,19 @@ struct YamlReader {
       fail(where + "." + key,
            "must be a whole number in " + std::to_string(lo) + ".." + std::to_string(hi));
     return static_cast<long long>(v);
+  }
+  // A random seed: a whole number 0..2^64-1, read from its digits (a double would round seeds
+  // above 2^53 and overflow the cast above 2^64).
+  uint64_t seed(const YAML::Node& n, const std::string& key, uint64_t def,
+                const std::string& where) const {
+    if (!n[key]) return def;
+    if (!n[key].IsScalar()) fail(where + "." + key, "expected a whole number");
+    const std::string t = n[key].Scalar();
+    uint64_t v = 0;
+    const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (ec != std::errc() || end != t.data() + t.size())
+      fail(where + "." + key, "must be a whole number from 0 to 18446744073709551615");
+    return v;
   }
   std::string str(const YAML::Node& n, const std::string& key, const std::string& def,
                   const std::string& where) const {
