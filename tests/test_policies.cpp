@@ -2,6 +2,9 @@
 // on hand-made attempts: what it decides, and that it leaves alone what it should not touch.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <random>
+
 #include "driver.hpp"
 #include "laserfit/cad/import.hpp"
 #include "laserfit/core/error.hpp"
@@ -156,7 +159,7 @@ TEST(Policies, EachCanBeSwitchedOffInTheDriver) {
   const Plug& P = plug();
   reg::RegistrationSettings s = P.s;
   s.q0 = Eigen::Quaterniond(P.T_scan_ref.rotation());
-  s.policies = {false, false, false, false, false, false, false};
+  s.policies = {false, false, false, false, false, false, false, false};
   s.trust.slide_range_mm = 0, s.trust.jackknife_blocks = 0;
   const auto r = reg::register_cloud(P.scan, P.ref, s);
   ASSERT_NE(r.status, reg::Status::Failed) << r.reason;
@@ -183,4 +186,45 @@ TEST(Policies, TheEntryPointComposesTheStages) {
   EXPECT_GE(entry.part, 0);
   s.segment.max_clusters = 0;
   EXPECT_THROW(reg::register_scan(P.scan, P.ref, s), Error);
+}
+
+TEST(Policies, RefinedFromThePriorAloneAnOkNeedsResidualsThatLookLikeNoise) {
+  // Refine-only (no coarse stage, nothing confirms the pose): the o2ac panel slid 9.5 mm along
+  // its plate fitted 98 % of its scan to 3 um and the rest to ~0.5 mm (RMSE 90 um, robust sigma
+  // 3.3 um): failed. The true pose (RMSE 4.0 um, sigma 3.3 um) stays ok, as does a noise-free
+  // fit under the floor, and with a coarse stage the policy leaves the decision alone.
+  const Plug& P = plug();
+  reg::RegistrationSettings s = P.s;
+  s.prior = P.T_scan_ref, s.skip_coarse = true;
+  reg::RegistrationResult r0;
+  const reg::Problem p = reg::prepare_problem(P.scan, P.ref, s, r0);
+  ASSERT_FALSE(p.coarse);
+  auto decide = [](const reg::Problem& q, double rmse_um, double sigma_um) {
+    reg::RegistrationResult r;
+    r.status = reg::Status::Ok;
+    r.inlier_rmse_mm = rmse_um * 1e-3, r.residual_sigma_mm = sigma_um * 1e-3;
+    reg::require_consistent_residuals(q, r);
+    return r;
+  };
+  const auto slid = decide(p, 89.8, 3.3);
+  EXPECT_EQ(slid.status, reg::Status::Failed);
+  EXPECT_NE(slid.reason.find("residuals are not noise"), std::string::npos) << slid.reason;
+  EXPECT_EQ(decide(p, 4.0, 3.3).status, reg::Status::Ok);
+  EXPECT_EQ(decide(p, 18.8, 2.8).status, reg::Status::Ok);  // shiny faces' outliers: ratio 6.7
+  EXPECT_EQ(decide(p, 2.0, 0.01).status, reg::Status::Ok);  // under rmse_floor_mm (5 um)
+  s.skip_coarse = false;
+  const reg::Problem global = reg::prepare_problem(P.scan, P.ref, s, r0);
+  EXPECT_EQ(decide(global, 89.8, 3.3).status, reg::Status::Ok);  // confirmation's job there
+}
+
+TEST(Policies, RobustSigmaIsTheNoiseBlindToAMisfitMinority) {
+  // Gaussian residuals of 3 um: within 5 % of 3 um; with 5 % of them 0.5 mm off, within 10 %.
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> n(0, 0.003);
+  std::vector<reg::Match> m(20000);
+  for (auto& x : m) x.n = Eigen::Vector3d::UnitZ(), x.q = Eigen::Vector3d(0, 0, n(rng));
+  EXPECT_NEAR(reg::robust_sigma(m), 0.003, 0.00015);
+  for (size_t i = 0; i < m.size(); i += 20) m[i].q.z() = 0.5;
+  EXPECT_NEAR(reg::robust_sigma(m), 0.003, 0.0003);
+  EXPECT_TRUE(std::isinf(reg::robust_sigma({})));
 }

@@ -54,6 +54,7 @@ io::Json result_json(const std::string& ref, const registration::RegistrationRes
           {"T_scan_ref", io::pose_to_json(r.T_scan_ref)},
           {"fitness_mm2", r.fitness_mm2},
           {"inlier_rmse_um", r.inlier_rmse_mm * 1e3},
+          {"residual_sigma_um", r.residual_sigma_mm * 1e3},
           {"overlap", r.overlap},
           {"attempts", r.attempts},
           {"iterations", r.iterations},

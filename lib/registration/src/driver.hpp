@@ -72,5 +72,6 @@ void reject_rivals(const Problem& p, const Attempts& a, const Candidate& best,
                    RegistrationResult& r);
 void require_confirmation(const Problem& p, const Attempts& a, const Candidate& best,
                           RegistrationResult& r);
+void require_consistent_residuals(const Problem& p, RegistrationResult& r);
 
 }  // namespace laserfit::registration

@@ -112,4 +112,19 @@ void require_confirmation(const Problem& p, const Attempts& a, const Candidate& 
              " converged, none agreeing with the best)";
 }
 
+// Refined from the prior alone, nothing confirms the pose: a wrong local minimum (the panel slid
+// along its plate onto another edge) fits most of the scan as well as the truth and leaves a
+// minority of points far off. Residuals that look like noise (RMSE near their robust sigma) are
+// the evidence an ok then rests on.
+void require_consistent_residuals(const Problem& p, RegistrationResult& r) {
+  const double k = p.s.trust.max_rmse_to_sigma;
+  if (r.status != Status::Ok || p.coarse || k <= 0) return;
+  if (r.inlier_rmse_mm <= std::max(k * r.residual_sigma_mm, p.s.trust.rmse_floor_mm)) return;
+  r.status = Status::Failed;
+  r.reason = "residuals are not noise: inlier RMSE " + fmt(r.inlier_rmse_mm * 1e3) + " um is " +
+             fmt(r.inlier_rmse_mm / r.residual_sigma_mm) + "x their robust sigma " +
+             fmt(r.residual_sigma_mm * 1e3) + " um (limit " + fmt(k) +
+             "x; refined from the prior only, a wrong local minimum?)";
+}
+
 }  // namespace laserfit::registration

@@ -103,6 +103,9 @@ struct PlaneSystem {
 };
 PlaneSystem plane_system(const PclCloud& scan, const Tree& ref_tree, const Pose& T,
                          const Matcher& m);
+// 1.4826 x the median absolute point-to-plane residual: the residuals' spread as noise alone
+// would give it, blind to a minority of misfits (mm).
+double robust_sigma(const std::vector<Match>& matches);
 void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const TrustSettings& t,
             double voxel, RegistrationResult& r);
 // An `ok` whose jackknife sigma (set by assess) is above the trust limits -> ambiguous, not

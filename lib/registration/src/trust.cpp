@@ -2,6 +2,7 @@
 // point-to-plane Hessian -> ambiguous along its weakest direction (e.g. rotation about a round
 // peg's axis) instead of an arbitrary angle; otherwise ok, with covariance sigma^2 H^-1.
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -70,6 +71,15 @@ PlaneSystem plane_system(const PclCloud& scan, const Tree& ref_tree, const Pose&
   return sys;
 }
 
+double robust_sigma(const std::vector<Match>& M) {
+  if (M.empty()) return std::numeric_limits<double>::infinity();
+  std::vector<double> a(M.size());
+  for (size_t i = 0; i < M.size(); ++i) a[i] = std::abs(M[i].n.dot(M[i].q - M[i].p));
+  auto mid = a.begin() + a.size() / 2;
+  std::nth_element(a.begin(), mid, a.end());
+  return 1.4826 * *mid;  // the median absolute residual of a normal distribution is 0.6745 sigma
+}
+
 namespace {
 // A (scaled) Hessian direction [rotation; translation] read as the DoF it mostly is.
 struct Dof {
@@ -117,6 +127,7 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
   f.fitness_mm2 = sys.n ? sys.residual2 / sys.n : std::numeric_limits<double>::infinity();
   f.rmse_mm = std::sqrt(f.fitness_mm2);
   r.fitness_mm2 = f.fitness_mm2, r.inlier_rmse_mm = f.rmse_mm, r.overlap = f.overlap;
+  r.residual_sigma_mm = robust_sigma(sys.matches);
   const Matrix6d& H = sys.H;
   const size_t n = sys.n;
   const double res2 = sys.residual2, L = sys.L;

@@ -29,6 +29,7 @@ struct RegistrationResult {
   std::string reason;      // why ambiguous / failed
   double fitness_mm2 = 0;  // PCL-style ICP fitness: mean squared NN distance (inliers)
   double inlier_rmse_mm = 0;
+  double residual_sigma_mm = 0;      // robust (median-based) spread of the same residuals
   double overlap = 0;                // fraction of scan points with a reference point within gate
   int attempts = 0, iterations = 0;  // iterations: ceres and ndt only (PCL ICP does not say)
   Matrix6d covariance = Matrix6d::Zero();           // [rx ry rz (rad), tx ty tz (mm)], scan frame

@@ -84,6 +84,14 @@ struct TrustSettings {
   // pin is kept (mm; range 0 = off). A needle's eye is 1 mm long: steps well under it.
   double slide_step_mm = 0.25;
   double slide_range_mm = 2.0;
+  // An ok no second attempt confirmed (refinement from the prior only) must have residuals that
+  // look like noise: inlier RMSE at most this x their robust sigma (1.4826 x median |residual|).
+  // At the true pose the ratio is 1-1.6 on the o2ac panel's visible band and reaches ~7 where
+  // its shiny faces throw outliers; a pose slid 9.5 mm along the plate fits 98 % of the scan to
+  // 3 um and the rest to ~0.5 mm: ratio 27.
+  double max_rmse_to_sigma = 10.0;
+  double rmse_floor_mm = 0.005;  // an RMSE below this is noise whatever the ratio (a noise-free
+                                 // simulation has a sigma near 0)
 };
 
 // register_scan splits the scan into candidate parts (register_segmented) unless switched off.
@@ -104,8 +112,9 @@ struct Policies {
   bool polish = true;   // non-Ceres refiners: an ok must sit at the robust point-to-plane minimum
   bool rivals = true;   // attempts that fit as well but disagree -> ambiguous
   bool confirm = true;  // an ok needs a second attempt that agrees with it
-  bool regrow = true;   // segmented, ambiguous: registered again on all scan points near it
-  bool view = true;     // register_in_view: once more against the view seen at the pose found
+  bool consistent = true;  // refine-only: an ok's residuals must look like noise (no misfit tail)
+  bool regrow = true;      // segmented, ambiguous: registered again on all scan points near it
+  bool view = true;        // register_in_view: once more against the view seen at the pose found
 };
 
 struct RegistrationSettings {
