@@ -183,6 +183,23 @@ TEST(Bench, PerturbationsTurnAboutTheChosenPivot) {
   }
 }
 
+TEST(Bench, UntunedThresholdsAreTheDefaultSettings) {
+  // Thresholds are an overlay on RegistrationSettings: an untuned one changes no field (exact).
+  namespace reg = laserfit::registration;
+  const reg::RegistrationSettings d;
+  reg::RegistrationSettings s;
+  reg::Thresholds{}.apply(s, "any");
+  EXPECT_EQ(s.coarse.feature_radius_vox, d.coarse.feature_radius_vox);
+  EXPECT_EQ(s.coarse.ransac_iterations, d.coarse.ransac_iterations);
+  EXPECT_EQ(s.refine.max_correspondence_vox, d.refine.max_correspondence_vox);
+  EXPECT_EQ(s.refine.method, d.refine.method);
+  EXPECT_EQ(s.rho_icp_vox2, d.rho_icp_vox2);
+  EXPECT_EQ(s.rho_rot_deg, d.rho_rot_deg);
+  EXPECT_EQ(s.trust.max_rmse_vox, d.trust.max_rmse_vox);
+  EXPECT_EQ(s.trust.min_overlap, d.trust.min_overlap);
+  EXPECT_EQ(s.pre.voxel_mm, d.pre.voxel_mm);
+}
+
 TEST(Bench, ThresholdsRoundTripAndAreValidated) {
   test::TempDir dir;
   registration::Thresholds t;

@@ -13,16 +13,17 @@
 namespace laserfit::registration {
 
 struct Thresholds {
-  // The parameters the tuning searches (defaults = RegistrationSettings' defaults).
+  // The parameters the tuning searches, an overlay on RegistrationSettings: their defaults are
+  // read from it (settings.hpp is the one source), so an untuned file changes nothing.
   Method method = Method::Ceres;
-  double voxel_scale = 1.0;                // x each object's voxel (below)
-  double feature_radius_vox = 6.0;         // FPFH radius, voxels
-  int ransac_iterations = 10000;           // per attempt
-  double max_correspondence_vox = 2.0;     // ICP gate, voxels
-  double rho_icp_vox2 = 0.05;              // Algorithm 1: stop when ICP fitness < rho * voxel^2
-  double rho_rot_deg = 30.0;               // Algorithm 1: orientation gate around q0
-  double max_rmse_vox = 0.5;               // failure detection: inlier RMSE limit, voxels
-  double min_overlap = 0.3;                // failure detection: fraction of the reference explained
+  double voxel_scale = 1.0;                                         // x each object's voxel (below)
+  double feature_radius_vox = CoarseSettings{}.feature_radius_vox;  // FPFH radius, voxels
+  int ransac_iterations = CoarseSettings{}.ransac_iterations;       // per attempt
+  double max_correspondence_vox = RefineSettings{}.max_correspondence_vox;  // ICP gate, voxels
+  double rho_icp_vox2 = RegistrationSettings{}.rho_icp_vox2;  // Algorithm 1: ICP fitness, vox^2
+  double rho_rot_deg = RegistrationSettings{}.rho_rot_deg;    // Algorithm 1: gate around q0
+  double max_rmse_vox = TrustSettings{}.max_rmse_vox;         // failure: inlier RMSE, voxels
+  double min_overlap = TrustSettings{}.min_overlap;           // failure: fraction explained
   std::map<std::string, double> voxel_mm;  // per object name, mm (before voxel_scale)
 
   // Provenance.
