@@ -5,6 +5,7 @@
 
 #include "laserfit/core/atomic_file.hpp"
 #include "laserfit/core/error.hpp"
+#include "laserfit/core/input_file.hpp"
 #include "laserfit/core/pose.hpp"
 #include "laserfit/core/rng.hpp"
 #include "laserfit/core/units.hpp"
@@ -66,6 +67,28 @@ TEST(AtomicFile, NoPartialFileWithoutCommit) {
   write_file_atomic(path, "whole");
   EXPECT_EQ(test::read_bytes(path), "whole");
   EXPECT_THROW(AtomicFile(dir / "missing_dir/out.bin"), Error);
+}
+
+// A path the OS refuses (here a 300-character name, over NAME_MAX) is one laserfit::Error whose
+// message shows at most 160 characters of it plus the reason, never a std::filesystem_error.
+TEST(InputFile, HostilePathsAreOneClippedError) {
+  test::TempDir dir;
+  const std::string too_long = dir / (std::string(300, 'a') + ".ply");
+  try {
+    require_input_file(too_long);
+    FAIL() << "no error for a name over NAME_MAX";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("File name too long"), std::string::npos) << what;
+    EXPECT_LT(what.size(), 160u + 80u) << what;
+  }
+  EXPECT_THROW(AtomicFile{too_long}, Error);
+  EXPECT_THROW(require_input_file(dir / "missing.ply"), Error);
+  EXPECT_THROW(require_input_file(dir.path.string()), Error);  // a folder
+  write_file_atomic(dir / "empty.ply", "");
+  EXPECT_THROW(require_input_file(dir / "empty.ply"), Error);
+  EXPECT_NO_THROW(require_input_file(dir / "empty.ply", "listed", EmptyFile::allowed));
+  EXPECT_EQ(shown_path("short"), "short");
 }
 
 TEST(Rng, BlocksAreIndependentOfOrder) {

@@ -8,6 +8,7 @@
 #include "laserfit/bench/trial.hpp"
 #include "laserfit/core/atomic_file.hpp"
 #include "laserfit/core/error.hpp"
+#include "laserfit/core/input_file.hpp"
 #include "laserfit/core/parallel.hpp"
 #include "laserfit/io/cloud_io.hpp"
 
@@ -93,9 +94,7 @@ void verify_dataset(const std::string& dir) {
     for (const auto& f : manifest.at("files")) {
       const std::string path =
           dir + "/" + manifest_path(dir + "/manifest.json", f.at("path").get<std::string>());
-      if (!fs::exists(path)) throw Error(path, "missing (listed in the manifest)");
-      if (!fs::is_regular_file(path))
-        throw Error(path, "not a regular file (listed in the manifest)");
+      require_input_file(path, "listed in the manifest", EmptyFile::allowed);
       if (fs::file_size(path) != f.at("bytes").get<size_t>() ||
           hex32(crc32_file(path)) != f.at("crc32"))
         throw Error(path, "differs from the manifest (size or CRC-32)");

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "laserfit/core/error.hpp"
+#include "laserfit/core/input_file.hpp"
 #include "laserfit/io/header_check.hpp"
 #include "laserfit/io/util.hpp"
 
@@ -65,10 +66,7 @@ void resolve_unit(const ImportSettings& s, const RawMesh& raw, ImportResult& r) 
 }  // namespace
 
 ImportResult import_cad_uncached(const std::string& path, const ImportSettings& s) {
-  namespace fs = std::filesystem;
-  if (!fs::exists(path)) throw Error(path, "no such file");
-  if (!fs::is_regular_file(path)) throw Error(path, "not a regular file");
-  if (fs::file_size(path) == 0) throw Error(path, "file is empty");
+  require_input_file(path);
   if (!(s.deflection_mm > 0) || !std::isfinite(s.deflection_mm))
     throw Error(path, "--deflection must be a positive length in mm");
   if (!(s.angular_deflection_rad > 0) || !std::isfinite(s.angular_deflection_rad))

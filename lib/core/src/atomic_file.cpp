@@ -8,15 +8,16 @@
 #include <filesystem>
 
 #include "laserfit/core/error.hpp"
+#include "laserfit/core/input_file.hpp"
 
 namespace laserfit {
 
 AtomicFile::AtomicFile(std::string path, bool binary) : path_(std::move(path)) {
   if (path_.empty()) throw Error("output path is empty");
-  if (std::filesystem::is_directory(path_)) throw Error(path_, "is a directory, not a file");
+  if (is_existing_directory(path_)) throw Error(shown_path(path_), "is a directory, not a file");
   tmp_ = path_ + ".tmp." + std::to_string(::getpid());
   out_.open(tmp_, binary ? std::ios::binary | std::ios::out : std::ios::out);
-  if (!out_) throw Error(path_, std::string("cannot write: ") + std::strerror(errno));
+  if (!out_) throw Error(shown_path(path_), std::string("cannot write: ") + std::strerror(errno));
 }
 
 AtomicFile::~AtomicFile() {

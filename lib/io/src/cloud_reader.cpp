@@ -11,6 +11,7 @@
 
 #include "cloud_codec.hpp"
 #include "laserfit/core/error.hpp"
+#include "laserfit/core/input_file.hpp"
 #include "laserfit/core/isolate.hpp"
 #include "laserfit/io/cloud_io.hpp"
 #include "laserfit/io/header_check.hpp"
@@ -103,10 +104,7 @@ PointCloud read_with_pcl(const std::string& path, const std::string& ext) {
 }  // namespace
 
 PointCloud read_cloud(const std::string& path) {
-  namespace fs = std::filesystem;
-  if (!fs::exists(path)) throw Error(path, "no such file");
-  if (!fs::is_regular_file(path)) throw Error(path, "not a regular file");
-  if (fs::file_size(path) == 0) throw Error(path, "file is empty");
+  require_input_file(path);
   const std::string ext = lower_extension(path);
   if (ext != ".pcd" && ext != ".ply")
     throw Error(path, "unsupported cloud format '" + ext + "' (use .pcd or .ply)");

@@ -9,6 +9,7 @@
 
 #include "laserfit/cad/import.hpp"
 #include "laserfit/core/error.hpp"
+#include "laserfit/core/input_file.hpp"
 #include "laserfit/io/yaml_reader.hpp"
 #include "laserfit/scan/scanner.hpp"
 
@@ -109,7 +110,7 @@ void read_motion(const Reader& R, const YAML::Node& n, MotionSettings& s) {
 
 static ScanScene load_scene_unguarded(const std::string& path) {
   namespace fs = std::filesystem;
-  if (!fs::exists(path)) throw Error(path, "no such file");
+  require_input_file(path);
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);
@@ -142,7 +143,11 @@ static ScanScene load_scene_unguarded(const std::string& path) {
     o.T_base_object = R.pose(objs[i]["pose"], where + ".pose");
     o.shiny = R.flag(objs[i], "shiny", false, where);
     const fs::path mesh = fs::path(path).parent_path() / o.mesh_path;
-    if (!fs::exists(mesh)) R.fail(where + ".mesh", "no such mesh file '" + mesh.string() + "'");
+    std::error_code ec;  // set when the OS refuses the path (too long, a loop of links)
+    if (!fs::exists(mesh, ec))
+      R.fail(where + ".mesh",
+             std::string(ec ? "cannot use the mesh path '" : "no such mesh file '") +
+                 shown_path(mesh.string()) + "'" + (ec ? ": " + ec.message() : ""));
     auto it = cache.find(mesh.string());
     if (it == cache.end())
       it = cache.emplace(mesh.string(), cad::import_cad(mesh.string()).mesh).first;

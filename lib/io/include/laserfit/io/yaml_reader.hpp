@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "laserfit/core/error.hpp"
+#include "laserfit/core/input_file.hpp"
 #include "laserfit/core/pose.hpp"
 
 namespace laserfit::io {
@@ -147,6 +148,10 @@ auto guard_yaml(const std::string& file, F&& load) -> decltype(load()) {
     throw Error(file, std::string("not a valid file: ") + e.what());
   } catch (const std::ios_base::failure& e) {
     throw Error(file, std::string("cannot read the file: ") + e.what());
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A path the file names (a cell's scene, a scene's mesh) that the OS refuses: too long, a loop.
+    throw Error(file, "cannot use the path '" + shown_path(e.path1().string()) +
+                          "': " + e.code().message());
   }
 }
 
