@@ -147,8 +147,20 @@ TEST(Cli, BadInputOneLineNonZeroNoOutput) {
     nan.width = 100;
     io::write_cloud(dir / "nan.pcd", nan);
   }
+  {  // a plate in mm, and the same plate in metres with no unit stated: a unit mix-up
+    PointCloud mm, m;
+    for (int i = 0; i < 400; ++i) {
+      const Eigen::Vector3f p(0.5f * (i % 20), 0.5f * (i / 20), 0.01f * (i % 7));
+      mm.points.push_back(p), m.points.push_back(p * 1e-3f);
+    }
+    mm.width = m.width = 400;
+    mm.metadata["unit"] = "mm";
+    io::write_cloud(dir / "plate_mm.pcd", mm);
+    io::write_cloud(dir / "plate_m.pcd", m);
+  }
   const std::string out = dir / "out.ply";
   const std::string cloud = dir / "out.pcd";
+  const std::string too_long = dir / (std::string(300, 'n') + ".pcd");
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"import " + (dir / "missing.step") + " -o " + out, out},
       {"import " + (dir / "trunc.stl") + " -o " + out, out},
@@ -167,6 +179,11 @@ TEST(Cli, BadInputOneLineNonZeroNoOutput) {
       {"register --scan " + (dir / "missing.pcd") + " --ref " + (dir / "missing_ref.pcd"), ""},
       {"register --scan " + (dir / "trunc.stl") + " --ref " + (dir / "trunc.stl"), ""},
       {"register --scan " + (dir / "nan.pcd") + " --ref " + (dir / "nan.pcd"), ""},
+      {"register --scan " + (dir / "plate_m.pcd") + " --ref " + (dir / "plate_mm.pcd"), ""},
+      {"register --scan " + (dir / "plate_mm.pcd") + " --ref " + (dir / "plate_mm.pcd") +
+           " --unit furlong",
+       ""},
+      {"register --scan " + too_long + " --ref " + (dir / "plate_mm.pcd"), ""},
       {"scan " + kPanel + " -o " + cloud, cloud},  // not a scene file
       {"register --scan " + (dir / "nan.pcd") + " --ref " + (dir / "nan.pcd") + " --thresholds " +
            (dir / "empty.obj"),

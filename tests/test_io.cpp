@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <sstream>
 
 #include "laserfit/core/error.hpp"
 #include "laserfit/io/cloud_io.hpp"
@@ -50,9 +51,8 @@ TEST(CloudIo, PcdAndPlyRoundTripBitExact) {
         EXPECT_EQ(r.points[i], c.points[i]);  // binary float: exact
         EXPECT_EQ(r.normals[i], c.normals[i]);
       }
-      if (std::string(name) == "c.pcd") {
-        EXPECT_EQ(r.height, c.height);
-      }
+      EXPECT_EQ(r.width, c.width);  // PLY too: obj_info num_cols / num_rows, as PCL reads it
+      EXPECT_EQ(r.height, c.height);
       EXPECT_EQ(r.metadata.at("seed"), "17");
       ASSERT_TRUE(r.sensor_origin);
       EXPECT_EQ(*r.sensor_origin, *c.sensor_origin);  // bit-exact
@@ -60,6 +60,51 @@ TEST(CloudIo, PcdAndPlyRoundTripBitExact) {
       EXPECT_EQ(r.metadata.at("source"), "a file with a newline");
     }
   }
+}
+
+// Clouds from other tools, in their conventions: Open3D's PLY (double x y z nx ny nz, uchar
+// colour, metres), a PCD whose only sensor origin is its VIEWPOINT. Points must come back in mm
+// within float rounding (1e-7 relative); the unit a laserfit file states wins over the caller's.
+TEST(CloudIo, ReadsOtherToolsConventions) {
+  test::TempDir dir;
+  const PointCloud mm = small_cloud(false);
+  std::ostringstream ply;
+  ply << "ply\nformat binary_little_endian 1.0\ncomment Created by Open3D\nelement vertex "
+      << mm.size() << "\nproperty double x\nproperty double y\nproperty double z\n"
+      << "property double nx\nproperty double ny\nproperty double nz\n"
+      << "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
+  for (size_t i = 0; i < mm.size(); ++i) {
+    const Eigen::Vector3d p = mm.points[i].cast<double>() * 1e-3, n = mm.normals[i].cast<double>();
+    ply.write(reinterpret_cast<const char*>(p.data()), 24);
+    ply.write(reinterpret_cast<const char*>(n.data()), 24);
+    ply.write("\x10\x20\x30", 3);
+  }
+  test::write_text(dir / "open3d.ply", ply.str());
+  EXPECT_THROW(io::read_cloud(dir / "open3d.ply", Unit::Auto), Error);  // must be told
+  const PointCloud r = io::read_cloud(dir / "open3d.ply", Unit::Metre);
+  ASSERT_EQ(r.size(), mm.size());
+  for (size_t i = 0; i < mm.size(); ++i) {
+    EXPECT_EQ(r.points[i], mm.points[i]);  // scaled in double, rounded once: the same floats
+    EXPECT_EQ(r.normals[i], mm.normals[i]);
+  }
+  EXPECT_EQ(r.metadata.at("unit"), "mm");
+  EXPECT_EQ(r.metadata.at("unit_converted_from"), "m");
+
+  PointCloud c = small_cloud(false);
+  c.metadata.clear();  // no laserfit.* comments: the VIEWPOINT alone says where the sensor was
+  io::write_cloud(dir / "laserfit.pcd", c);
+  std::string pcd = test::read_bytes(dir / "laserfit.pcd");
+  pcd.erase(pcd.find("# laserfit.viewpoint"), pcd.find('\n', pcd.find("# laserfit.viewpoint")) -
+                                                  pcd.find("# laserfit.viewpoint") + 1);
+  test::write_text(dir / "viewpoint.pcd", pcd);
+  const PointCloud v = io::read_cloud(dir / "viewpoint.pcd", Unit::Metre);
+  ASSERT_TRUE(v.sensor_origin);
+  EXPECT_LE((*v.sensor_origin - *c.sensor_origin * 1e3).norm(), 1e-4 * c.sensor_origin->norm());
+
+  PointCloud stated = small_cloud(false);
+  stated.metadata["unit"] = "mm";
+  io::write_cloud(dir / "stated.pcd", stated);
+  EXPECT_EQ(io::read_cloud(dir / "stated.pcd", Unit::Metre).points[3], stated.points[3]);
 }
 
 TEST(CloudIo, RefusesBadFiles) {

@@ -228,3 +228,22 @@ TEST(Policies, RobustSigmaIsTheNoiseBlindToAMisfitMinority) {
   EXPECT_NEAR(reg::robust_sigma(m), 0.003, 0.0003);
   EXPECT_TRUE(std::isinf(reg::robust_sigma({})));
 }
+
+// Not a policy but the driver's first stage: a scan read in the wrong unit (metres or micrometres
+// taken as mm, a factor 1000) is refused with both extents named; the right unit passes the check.
+TEST(Driver, RefusesAScanInAnotherUnit) {
+  const Plug& p = plug();
+  EXPECT_NO_THROW(reg::check_scale(p.scan, p.ref));
+  for (const float k : {1e-3f, 1e3f}) {
+    PointCloud scan = p.scan;
+    for (auto& q : scan.points) q *= k;
+    try {
+      reg::register_scan(scan, p.ref, p.s);
+      FAIL() << "a scan scaled by " << k << " was registered";
+    } catch (const Error& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("not the same unit"), std::string::npos) << what;
+      EXPECT_NE(what.find("--unit"), std::string::npos) << what;
+    }
+  }
+}

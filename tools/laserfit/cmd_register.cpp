@@ -7,6 +7,7 @@
 
 #include "command.hpp"
 #include "laserfit/core/error.hpp"
+#include "laserfit/core/units.hpp"
 #include "laserfit/io/cloud_io.hpp"
 #include "laserfit/registration/registration.hpp"
 #include "laserfit/registration/thresholds.hpp"
@@ -15,7 +16,7 @@ namespace laserfit::cli {
 namespace {
 
 struct Options {
-  std::string scan, method = "ceres", coarse, prior, q0, viewpoint, thresholds, object,
+  std::string scan, unit = "mm", method = "ceres", coarse, prior, q0, viewpoint, thresholds, object,
                     thin = "auto";
   std::string weak_rotation, weak_translation;  // x | y | z of the reference frame
   double thin_axis_sigma = registration::ThinSettings{}.axis_prior_deg;
@@ -70,7 +71,9 @@ io::Json result_json(const std::string& ref, const registration::RegistrationRes
 }
 
 int run(const Options& o) {
-  const PointCloud scan = io::read_cloud(o.scan);
+  const Unit unit = parse_unit(o.unit);
+  const double to_mm = unit_to_mm(unit);
+  const PointCloud scan = io::read_cloud(o.scan, unit);
   registration::RegistrationSettings s;
   registration::apply_method(s, parse_enum<registration::Method>(o.method));
   if (!o.coarse.empty()) s.coarse.method = parse_enum<registration::CoarseMethod>(o.coarse);
@@ -101,7 +104,10 @@ int run(const Options& o) {
   s.trust.weak_rotation = registration::named_axis(o.weak_rotation);
   s.trust.weak_translation = registration::named_axis(o.weak_translation);
   s.trust.max_sigma_mm = o.max_sigma_um * 1e-3, s.trust.max_sigma_deg = o.max_sigma_deg;
-  if (!o.prior.empty()) s.prior = parse_pose(o.prior, "--prior"), s.skip_coarse = o.refine_only;
+  if (!o.prior.empty()) {
+    s.prior = parse_pose(o.prior, "--prior"), s.skip_coarse = o.refine_only;
+    s.prior->translation() *= to_mm;
+  }
   if (!o.q0.empty()) {
     std::istringstream in(o.q0);
     double w, x, y, z;
@@ -111,14 +117,14 @@ int run(const Options& o) {
     s.q0 = q.normalized();
   }
   if (!o.viewpoint.empty())
-    s.pre.use_viewpoint = true, s.pre.viewpoint = parse_vec3(o.viewpoint, "--viewpoint");
+    s.pre.use_viewpoint = true, s.pre.viewpoint = parse_vec3(o.viewpoint, "--viewpoint") * to_mm;
   else if (scan.sensor_origin)
     s.pre.use_viewpoint = true, s.pre.viewpoint = *scan.sensor_origin;
 
   io::Json results = io::Json::array();
   std::ostringstream h;
   for (const auto& ref_path : o.refs) {
-    const PointCloud ref = io::read_cloud(ref_path);
+    const PointCloud ref = io::read_cloud(ref_path, unit);
     const registration::RegistrationSettings rs = settings_for(
         !o.object.empty() ? o.object : std::filesystem::path(ref_path).stem().string());
     registration::RegistrationResult r;
@@ -138,6 +144,9 @@ int run(const Options& o) {
   }
   emit(o.json,
        io::Json{{"scan", o.scan},
+                {"scan_unit", scan.metadata.count("unit_converted_from")
+                                  ? scan.metadata.at("unit_converted_from")
+                                  : "mm"},
                 {"method", o.method},
                 {"seed", o.seed},
                 {"thresholds", o.thresholds},
@@ -158,6 +167,11 @@ Command add_register(CLI::App& root) {
       ->required();
   app->add_option("--ref", o->refs, "reference cloud with normals (laserfit refcloud); repeatable")
       ->required();
+  app->add_option("--unit", o->unit,
+                  "unit of the clouds that do not state one (laserfit's own files say mm) and of "
+                  "--prior and --viewpoint: mm | m | um | cm | in; results are always mm")
+      ->check(CLI::IsMember({"mm", "m", "um", "cm", "in"}))
+      ->capture_default_str();
   app->add_option("--method", o->method,
                   "method: " + join(names_of<registration::Method>()) +
                       " (paper: Algorithm 1 as published, PCL's RANSAC and ICP)")

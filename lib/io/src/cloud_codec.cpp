@@ -49,6 +49,11 @@ std::string encode_cloud(const PointCloud& c) {
   put(out, c.points);
   put(out, c.normals);
   put(out, c.labels);
+  const std::vector<double> origin =
+      c.sensor_origin
+          ? std::vector<double>{c.sensor_origin->x(), c.sensor_origin->y(), c.sensor_origin->z()}
+          : std::vector<double>{};
+  put(out, origin);
   return out;
 }
 
@@ -64,6 +69,12 @@ PointCloud decode_cloud(const std::string& bytes, const std::string& path) {
   r.get(c.points);
   r.get(c.normals);
   r.get(c.labels);
+  std::vector<double> origin;
+  r.get(origin);
+  if (!origin.empty()) {
+    if (origin.size() != 3) r.fail("a sensor origin that is not x, y, z");
+    c.sensor_origin = Eigen::Vector3d(origin[0], origin[1], origin[2]);
+  }
   if (r.at != bytes.size()) r.fail("trailing bytes");
   const size_t n = c.points.size();
   if (n == 0 || c.width < 1 || c.height < 1 ||

@@ -1,6 +1,7 @@
 #pragma once
 // A cloud as bytes, for the isolated reader child's answer (laserfit/core/isolate.hpp): size,
-// grid, then points, normals and labels, each preceded by its count. The parent decodes it as
+// grid, then points, normals, labels and the sensor origin (0 or 3 values), each preceded by its
+// count. The parent decodes it as
 // untrusted input: counts are checked against the bytes and the grid before anything is
 // allocated from them.
 #include <string>

@@ -13,6 +13,7 @@
 #include "laserfit/core/error.hpp"
 #include "laserfit/core/input_file.hpp"
 #include "laserfit/core/isolate.hpp"
+#include "laserfit/core/units.hpp"
 #include "laserfit/io/cloud_io.hpp"
 #include "laserfit/io/header_check.hpp"
 #include "laserfit/io/util.hpp"
@@ -20,12 +21,34 @@
 namespace laserfit::io {
 namespace {
 
-// Offset of a float32 field in a PCLPointCloud2 point, or -1.
-int float_field(const pcl::PCLPointCloud2& c, const std::string& name) {
+// A scalar float field of a PCLPointCloud2 point: float32 (PCL, laserfit) or float64 (Open3D).
+struct Field {
+  int offset = -1;
+  bool is_double = false;
+  bool found() const { return offset >= 0; }
+};
+
+Field float_field(const pcl::PCLPointCloud2& c, const std::string& name) {
   for (const auto& f : c.fields)
-    if (f.name == name && f.datatype == pcl::PCLPointField::FLOAT32 && f.count == 1)
-      return static_cast<int>(f.offset);
-  return -1;
+    if (f.name == name && f.count == 1 &&
+        (f.datatype == pcl::PCLPointField::FLOAT32 || f.datatype == pcl::PCLPointField::FLOAT64))
+      return {static_cast<int>(f.offset), f.datatype == pcl::PCLPointField::FLOAT64};
+  return {};
+}
+
+// The field's value times `scale`, rounded once to float (a double metre value scaled in float
+// would lose up to 0.06 um at 0.5 m; scaled in double it reads back as the float it was written
+// from).
+float value(const pcl::PCLPointCloud2& c, size_t i, Field f, double scale = 1.0) {
+  const uint8_t* at = &c.data[i * c.point_step + f.offset];
+  if (!f.is_double) {
+    float v;
+    std::memcpy(&v, at, sizeof v);
+    return scale == 1.0 ? v : static_cast<float>(v * scale);
+  }
+  double v;
+  std::memcpy(&v, at, sizeof v);
+  return static_cast<float>(v * scale);
 }
 
 }  // namespace
@@ -52,16 +75,18 @@ namespace {
 
 // PCL's reader and the conversion to laserfit's cloud; runs in the isolated child (PCL's readers
 // have been seen to corrupt their own memory on crafted binary data behind a valid header).
-PointCloud read_with_pcl(const std::string& path, const std::string& ext) {
+PointCloud read_with_pcl(const std::string& path, const std::string& ext, double to_mm) {
   // PCL reports problems on its console; we report them once, as our own error line.
   pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
   pcl::PCLPointCloud2 blob;
-  int rc = -1;
+  Eigen::Vector4f origin = Eigen::Vector4f::Zero();  // PCD VIEWPOINT, PLY camera element
+  Eigen::Quaternionf orientation = Eigen::Quaternionf::Identity();
+  int version = 0, rc = -1;
   try {
     if (ext == ".pcd")
-      rc = pcl::PCDReader().read(path, blob);
+      rc = pcl::PCDReader().read(path, blob, origin, orientation, version);
     else
-      rc = pcl::PLYReader().read(path, blob);
+      rc = pcl::PLYReader().read(path, blob, origin, orientation, version);
   } catch (const pcl::PCLException& e) {
     throw Error(path, std::string("cannot parse: ") + e.what());
   }
@@ -69,13 +94,14 @@ PointCloud read_with_pcl(const std::string& path, const std::string& ext) {
   const size_t n = static_cast<size_t>(blob.width) * blob.height;
   if (n == 0) throw Error(path, "cloud has no points");
   if (blob.data.size() < n * blob.point_step) throw Error(path, "truncated point data");
-  const int ox = float_field(blob, "x"), oy = float_field(blob, "y"), oz = float_field(blob, "z");
-  if (ox < 0 || oy < 0 || oz < 0) throw Error(path, "no float x, y, z fields");
-  int onx = float_field(blob, "normal_x"), ony = float_field(blob, "normal_y"),
-      onz = float_field(blob, "normal_z");
-  if (onx < 0)
-    onx = float_field(blob, "nx"), ony = float_field(blob, "ny"), onz = float_field(blob, "nz");
-  const bool normals = onx >= 0 && ony >= 0 && onz >= 0;
+  const Field x = float_field(blob, "x"), y = float_field(blob, "y"), z = float_field(blob, "z");
+  if (!x.found() || !y.found() || !z.found())
+    throw Error(path, "no x, y, z fields of type float or double");
+  Field nx = float_field(blob, "normal_x"), ny = float_field(blob, "normal_y"),
+        nz = float_field(blob, "normal_z");
+  if (!nx.found())
+    nx = float_field(blob, "nx"), ny = float_field(blob, "ny"), nz = float_field(blob, "nz");
+  const bool normals = nx.found() && ny.found() && nz.found();
   int olabel = -1;
   for (const auto& f : blob.fields)
     if (f.name == "label" && f.count == 1 &&
@@ -88,40 +114,71 @@ PointCloud read_with_pcl(const std::string& path, const std::string& ext) {
   c.points.resize(n);
   if (normals) c.normals.resize(n);
   if (olabel >= 0) c.labels.resize(n);
-  auto get = [&](size_t i, int off) {
-    float v;
-    std::memcpy(&v, &blob.data[i * blob.point_step + off], sizeof(float));
-    return v;
-  };
   for (size_t i = 0; i < n; ++i) {
-    c.points[i] = {get(i, ox), get(i, oy), get(i, oz)};
-    if (normals) c.normals[i] = {get(i, onx), get(i, ony), get(i, onz)};
+    c.points[i] = {value(blob, i, x, to_mm), value(blob, i, y, to_mm), value(blob, i, z, to_mm)};
+    if (normals) c.normals[i] = {value(blob, i, nx), value(blob, i, ny), value(blob, i, nz)};
     if (olabel >= 0) std::memcpy(&c.labels[i], &blob.data[i * blob.point_step + olabel], 4);
   }
+  // PCL's default VIEWPOINT is the origin, which also stands for "not recorded"; a sensor placed
+  // exactly at the cloud frame's origin is given by laserfit.viewpoint or --viewpoint instead.
+  if (origin.head<3>().allFinite() && !origin.head<3>().isZero())
+    c.sensor_origin = origin.head<3>().cast<double>() * to_mm;
   return c;
 }
 
 }  // namespace
 
-PointCloud read_cloud(const std::string& path) {
+namespace {
+
+// The laserfit.viewpoint comment: the sensor origin as laserfit wrote it (exact, unlike the float
+// VIEWPOINT), so it wins over the header field.
+void take_viewpoint_comment(const std::string& path, double to_mm, PointCloud& c) {
+  const auto vp = c.metadata.find("viewpoint");
+  if (vp == c.metadata.end()) return;
+  std::istringstream in(vp->second);
+  Eigen::Vector3d v;
+  std::string rest;
+  if (!(in >> v.x() >> v.y() >> v.z()) || (in >> rest) || !v.allFinite())
+    throw Error(path, "laserfit.viewpoint '" + vp->second + "' is not three finite numbers");
+  c.sensor_origin = v * to_mm;  // written in the file's unit
+  c.metadata.erase(vp);
+}
+
+// The unit the file is in: its own laserfit.unit, else the caller's `unstated`.
+Unit file_unit(const std::string& path, const std::map<std::string, std::string>& meta,
+               Unit unstated) {
+  Unit unit = unstated;
+  if (const auto u = meta.find("unit"); u != meta.end()) {
+    try {
+      unit = parse_unit(u->second);
+    } catch (const Error& e) {
+      throw Error(path, std::string("laserfit.unit: ") + e.what());
+    }
+  }
+  if (unit == Unit::Auto)
+    throw Error(path, "the file does not state its unit; give it (--unit mm|m|um|cm|in)");
+  return unit;
+}
+
+}  // namespace
+
+PointCloud read_cloud(const std::string& path, Unit unstated) {
   require_input_file(path);
   const std::string ext = lower_extension(path);
   if (ext != ".pcd" && ext != ".ply")
     throw Error(path, "unsupported cloud format '" + ext + "' (use .pcd or .ply)");
   check_cloud_header(path, ext);
+  auto meta = read_header_metadata(path);
+  const Unit unit = file_unit(path, meta, unstated);
+  const double to_mm = unit_to_mm(unit);  // applied in the reader, in double
   const std::string reader = ext == ".pcd" ? "the PCD reader (PCL)" : "the PLY reader (PCL)";
   PointCloud c = decode_cloud(
-      run_isolated(path, reader, {}, [&] { return encode_cloud(read_with_pcl(path, ext)); }), path);
-  c.metadata = read_header_metadata(path);
-  if (const auto vp = c.metadata.find("viewpoint"); vp != c.metadata.end()) {
-    std::istringstream in(vp->second);
-    Eigen::Vector3d v;
-    std::string rest;
-    if (!(in >> v.x() >> v.y() >> v.z()) || (in >> rest) || !v.allFinite())
-      throw Error(path, "laserfit.viewpoint '" + vp->second + "' is not three finite numbers (mm)");
-    c.sensor_origin = v;
-    c.metadata.erase(vp);
-  }
+      run_isolated(path, reader, {}, [&] { return encode_cloud(read_with_pcl(path, ext, to_mm)); }),
+      path);
+  c.metadata = std::move(meta);
+  take_viewpoint_comment(path, to_mm, c);
+  c.metadata["unit"] = "mm";
+  if (unit != Unit::Millimetre) c.metadata["unit_converted_from"] = unit_name(unit);
   return c;
 }
 

@@ -26,18 +26,19 @@ std::vector<float> interleave(const PointCloud& c) {
   return buf;
 }
 
+std::string shortest(double v) {  // the shortest decimal that reads back as the same double
+  char b[32];
+  const auto r = std::to_chars(b, b + sizeof b, v);
+  return std::string(b, r.ptr);
+}
+
 // The header's laserfit.* lines: the metadata and the sensor origin (shortest round-trip decimal).
 std::map<std::string, std::string> header_metadata(const PointCloud& c) {
   std::map<std::string, std::string> m;
   for (const auto& [k, v] : c.metadata) m[k] = one_line(v);
   if (c.sensor_origin) {
-    std::string vp;
-    for (int i = 0; i < 3; ++i) {
-      char b[32];
-      const auto r = std::to_chars(b, b + sizeof b, (*c.sensor_origin)[i]);
-      vp += (i ? " " : "") + std::string(b, r.ptr);
-    }
-    m["viewpoint"] = vp;
+    const Eigen::Vector3d& o = *c.sensor_origin;
+    m["viewpoint"] = shortest(o.x()) + " " + shortest(o.y()) + " " + shortest(o.z());
   }
   return m;
 }
@@ -54,14 +55,20 @@ void write_pcd(std::ostream& out, const PointCloud& c) {
   for (int i = 0; i < fields; ++i) out << (l && i == fields - 1 ? " I" : " F");
   out << "\nCOUNT";
   for (int i = 0; i < fields; ++i) out << " 1";
-  out << "\nWIDTH " << c.width << "\nHEIGHT " << c.height << "\n"
-      << "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << c.size() << "\nDATA binary\n";
+  // VIEWPOINT carries the sensor origin for PCL and other readers (PCL's sensor_origin_); the
+  // laserfit.viewpoint comment above keeps it exact.
+  const Eigen::Vector3d o = c.sensor_origin.value_or(Eigen::Vector3d::Zero());
+  out << "\nWIDTH " << c.width << "\nHEIGHT " << c.height << "\nVIEWPOINT " << shortest(o.x())
+      << " " << shortest(o.y()) << " " << shortest(o.z()) << " 1 0 0 0\nPOINTS " << c.size()
+      << "\nDATA binary\n";
 }
 
 void write_ply(std::ostream& out, const PointCloud& c) {
   out << "ply\nformat binary_little_endian 1.0\n";
   for (const auto& [k, v] : header_metadata(c)) out << "comment laserfit." << k << " " << v << "\n";
-  if (c.organized()) out << "obj_info width " << c.width << " height " << c.height << "\n";
+  // PCL's convention for an organized PLY (PLYReader restores width x height from it).
+  if (c.organized())
+    out << "obj_info num_cols " << c.width << "\nobj_info num_rows " << c.height << "\n";
   out << "element vertex " << c.size() << "\n"
       << "property float x\nproperty float y\nproperty float z\n";
   if (c.has_normals()) out << "property float nx\nproperty float ny\nproperty float nz\n";

@@ -34,6 +34,7 @@ RegistrationResult register_cloud(const PointCloud& scan, const PointCloud& ref,
 
 RegistrationResult register_scan(const PointCloud& scan, const PointCloud& ref,
                                  const RegistrationSettings& s, const ViewSampler& view) {
+  check_scale(scan, ref);
   if (!s.segment.enabled) return register_cloud(scan, ref, s);
   if (s.segment.max_clusters < 1) throw Error("segment.max_clusters must be at least 1");
   return register_in_view(scan, ref, view, s, s.segment.max_clusters);
@@ -48,6 +49,33 @@ void check_inputs(const PointCloud& scan, const PointCloud& ref, const Registrat
   if (finite(scan) < 10) throw Error("scan has no usable points (empty or all NaN)");
   if (finite(ref) < 10) throw Error("reference cloud has no usable points");
   check_slide_settings(s.trust);
+}
+
+namespace {
+
+double diagonal(const PointCloud& c) {  // of the finite points' bounding box, mm
+  Eigen::AlignedBox3f box;
+  for (const auto& p : c.points)
+    if (p.allFinite()) box.extend(p);
+  return box.isEmpty() ? 0.0 : double(box.diagonal().norm());
+}
+
+}  // namespace
+
+// A scan in metres read as millimetres is 1000x smaller than its reference, one in micrometres
+// 1000x larger; either would "register" to nonsense. In the project's benchmarks (registration,
+// needle, usb, taskboard, stress) the reference's diagonal is 0.27 to 1.9 times the scan's; the
+// bounds leave room for a partial view of a large part (30x) and a 30 cm sweep around a 1 mm part
+// (300x).
+void check_scale(const PointCloud& scan, const PointCloud& ref) {
+  constexpr double kRefOverScan = 30, kScanOverRef = 300;
+  const double ds = diagonal(scan), dr = diagonal(ref);
+  if (!(ds > 0 && dr > 0)) return;  // empty or a single point: check_inputs names it
+  if (dr > kRefOverScan * ds || ds > kScanOverRef * dr)
+    throw Error("the scan spans " + fmt(ds) + " mm and the reference " + fmt(dr) +
+                " mm (bounding-box diagonals, " + fmt(std::max(ds / dr, dr / ds)) +
+                "x apart): not the same unit? (a cloud that does not state its unit is read in "
+                "--unit, mm by default)");
 }
 
 const char* status_name(Status s) {

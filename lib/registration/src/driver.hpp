@@ -49,6 +49,8 @@ std::string fmt_t(const Pose& T);  // "t = [x, y, z]"
 
 // Throws Error on clouds without usable points and on settings out of range.
 void check_inputs(const PointCloud& scan, const PointCloud& ref, const RegistrationSettings& s);
+// Refuses a scan and a reference whose extents differ by a unit's factor (Error names both).
+void check_scale(const PointCloud& scan, const PointCloud& ref);
 
 // Algorithm 1, line 1 and the features of line 4 (attempts.cpp).
 Problem prepare_problem(const PointCloud& scan, const PointCloud& ref,
