@@ -33,7 +33,7 @@ const std::string kPlug = std::string(LASERFIT_SOURCE_DIR) + "/cad/usb_a_plug.pl
 TEST(Cli, HelpForEverySubcommand) {
   test::TempDir dir;
   EXPECT_EQ(run("--help", dir).code, 0);
-  for (const char* sub : {"import", "refcloud", "cad", "scan", "register", "bench",
+  for (const char* sub : {"import", "refcloud", "cad", "scan", "assemble", "register", "bench",
                           "bench generate", "bench merge", "tune", "report"}) {
     const auto r = run(std::string(sub) + " --help", dir);
     EXPECT_EQ(r.code, 0) << sub;
@@ -161,6 +161,11 @@ TEST(Cli, BadInputOneLineNonZeroNoOutput) {
   const std::string out = dir / "out.ply";
   const std::string cloud = dir / "out.pcd";
   const std::string too_long = dir / (std::string(300, 'n') + ".pcd");
+  test::write_text(dir / "prof.csv", "1,90,2,91\n1,90,2,91\n");  // two profiles of two points
+  test::write_text(dir / "one_pose.csv", "500 0 200 1 0 0 0\n");
+  test::write_text(dir / "two_poses.csv", "500 0 200 1 0 0 0\n500 1 200 1 0 0 0\n");
+  const std::string assemble =
+      "assemble --profiles " + (dir / "prof.csv") + " --hand-eye '0 0 80 1 0 0 0' ";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"import " + (dir / "missing.step") + " -o " + out, out},
       {"import " + (dir / "trunc.stl") + " -o " + out, out},
@@ -184,7 +189,13 @@ TEST(Cli, BadInputOneLineNonZeroNoOutput) {
            " --unit furlong",
        ""},
       {"register --scan " + too_long + " --ref " + (dir / "plate_mm.pcd"), ""},
-      {"scan " + kPanel + " -o " + cloud, cloud},  // not a scene file
+      {"scan " + kPanel + " -o " + cloud, cloud},                                // not a scene file
+      {assemble + "--poses " + (dir / "one_pose.csv") + " -o " + cloud, cloud},  // 1 pose, 2 rows
+      {assemble + "--poses " + (dir / "prof.csv") + " -o " + cloud, cloud},      // not poses
+      {assemble + "--poses " + (dir / "two_poses.csv") + " --width 3 -o " + cloud, cloud},
+      {"assemble --profiles " + (dir / "prof.csv") + " --hand-eye '0 0 80' --poses " +
+           (dir / "two_poses.csv") + " -o " + cloud,
+       cloud},
       {"register --scan " + (dir / "nan.pcd") + " --ref " + (dir / "nan.pcd") + " --thresholds " +
            (dir / "empty.obj"),
        ""},

@@ -10,6 +10,7 @@
 #include "laserfit/io/cloud_io.hpp"
 #include "laserfit/io/header_check.hpp"
 #include "laserfit/io/json.hpp"
+#include "laserfit/io/profiles.hpp"
 #include "test_util.hpp"
 
 using namespace laserfit;
@@ -193,4 +194,66 @@ TEST(Json, PoseRoundTrip) {
   const Pose T = parse_pose("1.5 -2 3.25 0.5 0.5 0.5 0.5");
   const Pose back = io::pose_from_json(io::pose_to_json(T), "test");
   EXPECT_NEAR((T.matrix() - back.matrix()).norm(), 0, 1e-15);
+}
+
+// Profiles as drivers export them: a CSV with a comment, a header row, an empty field and a "nan"
+// (no measurement), in metres, both layouts; the same numbers as float32 binary. Values must come
+// back exactly (scaled in double, rounded once); a row of the wrong length or a pose that is not
+// rigid is one error naming the file and the row.
+TEST(Profiles, CsvBinaryAndPosesInTheirUnits) {
+  test::TempDir dir;
+  test::write_text(dir / "p.csv",
+                   "# from the driver\nx0,z0,x1,z1,x2,z2\n0.001,0.09,,0.091,0.003,0.092\n"
+                   "-0.001;0.089;0.002;nan;0.003;0\n");
+  io::ProfileFileSettings s;
+  s.unit = Unit::Metre;
+  const io::Profiles p = io::read_profiles(dir / "p.csv", s);
+  ASSERT_EQ(p.width, 3);
+  ASSERT_EQ(p.count, 2);
+  EXPECT_EQ(p.xz[0], Eigen::Vector2f(1.f, 90.f));
+  EXPECT_FALSE(p.xz[1].allFinite());  // empty x
+  EXPECT_FALSE(p.xz[4].allFinite());  // nan z
+  EXPECT_EQ(p.xz[5], Eigen::Vector2f(3.f, 0.f));
+  s.zero_is_invalid = true;
+  EXPECT_FALSE(io::read_profiles(dir / "p.csv", s).xz[5].allFinite());
+
+  std::string wide;  // a 5000-point profile: a 90 kB row, read in more than one chunk
+  for (int j = 0; j < 5000; ++j) wide += (j ? "," : "") + std::to_string(j) + ",90.125";
+  test::write_text(dir / "wide.csv", wide + "\n" + wide);  // the last row without a newline
+  const io::Profiles w = io::read_profiles(dir / "wide.csv", {});
+  ASSERT_EQ(w.width, 5000);
+  ASSERT_EQ(w.count, 2);
+  EXPECT_EQ(w.xz[9999], Eigen::Vector2f(4999.f, 90.125f));
+
+  const std::vector<float> blocks = {1, 2, 3, 90, 91, 92};  // x0 x1 x2 z0 z1 z2, mm
+  test::write_text(dir / "p.bin", std::string(reinterpret_cast<const char*>(blocks.data()), 24));
+  io::ProfileFileSettings b;
+  b.layout = io::ProfileLayout::blocks, b.scalar = io::ProfileScalar::f32, b.width = 3;
+  const io::Profiles q = io::read_profiles(dir / "p.bin", b);
+  ASSERT_EQ(q.count, 1);
+  EXPECT_EQ(q.xz[1], Eigen::Vector2f(2.f, 91.f));
+  b.width = 4;  // 24 bytes are not whole profiles of 32
+  EXPECT_THROW(io::read_profiles(dir / "p.bin", b), Error);
+
+  test::write_text(dir / "poses.csv", "x,y,z,qw,qx,qy,qz\n0.5,0,0.25,1,0,0,0\n");
+  const auto poses = io::read_pose_list(dir / "poses.csv", Unit::Metre);
+  ASSERT_EQ(poses.size(), 1u);
+  EXPECT_EQ(poses[0].translation(), Eigen::Vector3d(500, 0, 250));
+
+  test::write_text(dir / "short.csv", "1,90,2,91\n1,90,2\n");
+  test::write_text(dir / "words.csv", "1,90\nx,z\n");
+  test::write_text(dir / "bad_pose.csv", "0 0 0 2 0 0 0\n");
+  test::write_text(dir / "six.csv", "0 0 0 1 0 0\n");
+  for (const char* f : {"short.csv", "words.csv", "bad_pose.csv", "six.csv", "p.xyz"}) {
+    SCOPED_TRACE(f);
+    try {
+      if (std::string(f).find("pose") != std::string::npos || std::string(f) == "six.csv")
+        io::read_pose_list(dir / f, Unit::Millimetre);
+      else
+        io::read_profiles(dir / f, {});
+      FAIL() << "accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
+    }
+  }
 }

@@ -18,6 +18,7 @@ Command add_import(CLI::App& root);
 Command add_refcloud(CLI::App& root);
 Command add_cad(CLI::App& root);
 Command add_scan(CLI::App& root);
+Command add_assemble(CLI::App& root);
 Command add_register(CLI::App& root);
 Command add_bench(CLI::App& root);
 Command add_tune(CLI::App& root);
