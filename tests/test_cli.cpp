@@ -38,6 +38,7 @@ TEST(Cli, HelpForEverySubcommand) {
     const auto r = run(std::string(sub) + " --help", dir);
     EXPECT_EQ(r.code, 0) << sub;
     EXPECT_NE(r.out.find("--json"), std::string::npos) << sub;
+    EXPECT_NE(r.out.find("Exit codes: 0 done; 1 bad input"), std::string::npos) << sub;
   }
   EXPECT_NE(run("frobnicate", dir).code, 0);
 }
@@ -135,6 +136,29 @@ TEST(Cli, ParserLimitsAreOneLineErrors) {
     EXPECT_EQ(r.code, 2) << args;
     EXPECT_EQ(lines(r.err), 1u) << r.err;
   }
+}
+
+// A flat plate registered against itself can slide in its plane: `ambiguous`. --fail-on turns
+// that into exit code 3 for scripts, results still printed; without it, or with --fail-on failed,
+// the run is done (0).
+TEST(Cli, FailOnGivesExitCode3) {
+  test::TempDir dir;
+  PointCloud plate;
+  for (int i = 0; i < 2500; ++i) {
+    plate.points.emplace_back(0.2f * (i % 50), 0.2f * (i / 50), 0.f);
+    plate.normals.emplace_back(0.f, 0.f, 1.f);
+  }
+  plate.width = 2500;
+  plate.sensor_origin = Eigen::Vector3d(5, 5, 90);
+  io::write_cloud(dir / "plate.pcd", plate);
+  const std::string reg =
+      "register --no-segment --scan " + (dir / "plate.pcd") + " --ref " + (dir / "plate.pcd");
+  const auto ambiguous = run(reg + " --fail-on ambiguous", dir);
+  EXPECT_EQ(ambiguous.code, 3) << ambiguous.err;
+  EXPECT_NE(ambiguous.out.find("ambiguous"), std::string::npos) << ambiguous.out;
+  EXPECT_EQ(run(reg + " --fail-on failed", dir).code, 0);
+  EXPECT_EQ(run(reg, dir).code, 0);
+  EXPECT_EQ(run(reg + " --fail-on maybe", dir).code, 2);
 }
 
 TEST(Cli, BadInputOneLineNonZeroNoOutput) {

@@ -15,17 +15,29 @@ struct Command {
   std::function<int()> run;
 };
 
+// The exit codes of both programs, shown at the end of every --help.
+enum ExitCode : int { kDone = 0, kBadInput = 1, kUsage = 2, kNotTrusted = 3 };
+inline constexpr const char* kExitCodes =
+    "Exit codes: 0 done; 1 bad input or refused (one line on stderr naming the file or peer and "
+    "the problem; no output file); 2 usage error (unknown option, value out of range); 3 done, "
+    "but a registration has the status named by --fail-on.";
+
 // "<program> <subcommand>: error: <what>" and exit code 1 on any error; a usage error is one line
 // and exit code 2; --help and --version exit 0.
 inline int run_subcommand(CLI::App& app, const std::vector<Command>& commands, int argc,
                           char** argv, const std::string& program) {
+  const std::function<void(CLI::App*)> footer = [&](CLI::App* a) {
+    a->footer(kExitCodes);
+    for (CLI::App* sub : a->get_subcommands({})) footer(sub);
+  };
+  footer(&app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     // One line, as for any other bad input; usage errors exit 2.
     std::cerr << program << ": error: " << e.what() << " (see --help)\n";
-    return 2;
+    return kUsage;
   }
   for (const auto& c : commands) {
     if (!c.app->parsed()) continue;
@@ -33,7 +45,7 @@ inline int run_subcommand(CLI::App& app, const std::vector<Command>& commands, i
       return c.run();
     } catch (const std::exception& e) {
       std::cerr << program << " " << c.app->get_name() << ": error: " << e.what() << "\n";
-      return 1;
+      return kBadInput;
     }
   }
   return 1;

@@ -3,12 +3,14 @@
 //   correct  one correction from files (a scan, the references, the arm's pose), for use next to
 //            real hardware: a trajectory CSV in the assembling arm's base frame
 #include "commands.hpp"
+#include "laserfit/core/build_info.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{
       "laserfit-controller — scan, register, correct, insert (simulated cell or files). Lengths "
       "mm."};
   app.require_subcommand(1);
+  app.set_version_flag("--version", laserfit::build_info());
   const std::vector<laserfit::ctl::Command> commands = {laserfit::ctl::add_sim(app),
                                                         laserfit::ctl::add_correct(app)};
   return laserfit::tools::run_subcommand(app, commands, argc, argv, "laserfit-controller");

@@ -16,8 +16,8 @@ namespace laserfit::cli {
 namespace {
 
 struct Options {
-  std::string scan, unit = "mm", method = "ceres", coarse, prior, q0, viewpoint, thresholds, object,
-                    thin = "auto";
+  std::string scan, unit = "mm", fail_on, method = "ceres", coarse, prior, q0, viewpoint,
+                    thresholds, object, thin = "auto";
   std::string weak_rotation, weak_translation;  // x | y | z of the reference frame
   double thin_axis_sigma = registration::ThinSettings{}.axis_prior_deg;
   double max_sigma_um = registration::TrustSettings{}.max_sigma_mm * 1e3;
@@ -142,6 +142,9 @@ int run(const Options& o) {
       << tq[6] << "]\n  fit         rmse " << r.inlier_rmse_mm * 1e3 << " um, overlap " << r.overlap
       << ", " << r.attempts << " attempt(s)\n";
   }
+  bool refused = false;  // --fail-on: a status scripts must not act on
+  for (const auto& r : results)
+    refused |= r["status"] == "failed" || (o.fail_on == "ambiguous" && r["status"] == "ambiguous");
   emit(o.json,
        io::Json{{"scan", o.scan},
                 {"scan_unit", scan.metadata.count("unit_converted_from")
@@ -152,7 +155,7 @@ int run(const Options& o) {
                 {"thresholds", o.thresholds},
                 {"results", results}},
        h.str());
-  return 0;
+  return !o.fail_on.empty() && refused ? tools::kNotTrusted : tools::kDone;
 }
 
 }  // namespace
@@ -236,6 +239,10 @@ Command add_register(CLI::App& root) {
   app->add_option("--max-sigma-deg", o->max_sigma_deg, "likewise for the rotation (deg)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app->add_option("--fail-on", o->fail_on,
+                  "exit 3 (results still printed) when a registration is failed, or with "
+                  "'ambiguous' when it is ambiguous or failed: for scripts that must not act on it")
+      ->check(CLI::IsMember({"ambiguous", "failed"}));
   app->add_flag("--json", o->json, "machine-readable result on stdout");
   o->app = app;
   return {app, [o] { return run(*o); }};
