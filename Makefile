@@ -22,7 +22,7 @@ FUZZ_PACKAGES := clang libfuzzer-14-dev libclang-rt-14-dev llvm python3
 # Only for the Open3D baseline of `make bench-registration` (large; not needed to build or test).
 BENCH_PACKAGES := python3 python3-numpy python3-open3d
 
-.PHONY: all deps deps-bench deps-fuzz deps-slurm test-slurm build-asan test-asan fuzz fuzz-campaign fuzz-campaign-cli install-packages configure build test demo cad bench bench-cad bench-scan \
+.PHONY: all install deps deps-bench deps-fuzz deps-slurm test-slurm build-asan test-asan fuzz fuzz-campaign fuzz-campaign-cli install-packages configure build test demo cad bench bench-cad bench-scan \
   bench-registration bench-registration-speed bench-quick bench-suites tune report paper clean format
 
 all: build
@@ -60,6 +60,12 @@ build: configure
 
 test: build
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
+
+# Headers, static libraries, the two programs and the CMake package laserfit into PREFIX
+# (find_package(laserfit COMPONENTS registration); see docs/cli.md "Using laserfit as a library").
+PREFIX ?= /usr/local
+install: build
+	cmake --install $(BUILD) --prefix $(PREFIX)
 
 # The test suite again, built by clang with AddressSanitizer + UndefinedBehaviorSanitizer (any
 # report fails the test), plus the libFuzzer targets; a second build folder, $(ASAN_BUILD).

@@ -6,11 +6,19 @@ endfunction()
 
 # laserfit_library(<name> SOURCES ... DEPS ...): one CMake target per pipeline stage, the way
 # small_gicp and KISS-ICP lay out theirs: lib/<name>/include/laserfit/<name>/*.hpp + src/*.cpp.
+# Each is installed as a component of the CMake package (laserfit::<name>, cmake/Package.cmake).
 function(laserfit_library name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
   add_library(laserfit_${name} STATIC ${ARG_SOURCES})
   add_library(laserfit::${name} ALIAS laserfit_${name})
-  target_include_directories(laserfit_${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+  set_target_properties(laserfit_${name} PROPERTIES EXPORT_NAME ${name})
+  target_include_directories(laserfit_${name} PUBLIC
+    $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include> $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   target_link_libraries(laserfit_${name} PUBLIC ${ARG_DEPS})
   laserfit_warnings(laserfit_${name})
+  install(TARGETS laserfit_${name} EXPORT laserfit_${name}_targets
+          ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(DIRECTORY include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  install(EXPORT laserfit_${name}_targets DESTINATION ${LASERFIT_CMAKE_DIR} NAMESPACE laserfit::)
+  set_property(GLOBAL APPEND PROPERTY LASERFIT_COMPONENTS ${name})
 endfunction()
