@@ -15,3 +15,9 @@ cmake -S "$here/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$work/prefix"
   -DCMAKE_DISABLE_FIND_PACKAGE_embree=ON > "$work/configure.log"
 cmake --build "$work/consumer" > "$work/build.log"
 "$work/consumer/consumer"
+# The Python module, when built, imports from the prefix alone (no build tree on the path).
+for dir in "$work"/prefix/lib/python3*/dist-packages; do
+  [ -d "$dir/laserfit" ] || continue
+  (cd "$work" && PYTHONPATH="$dir" /usr/bin/python3 -c \
+    'import laserfit, sys; assert laserfit.__file__.startswith(sys.argv[1]), laserfit.__file__; print("import laserfit:", laserfit.__version__)' "$dir")
+done
