@@ -90,6 +90,24 @@ TEST(Cli, ScanWritesCloudGroundTruthAndRawProfiles) {
       ASSERT_EQ(p.y(), 0.f) << "raw profiles are (x, z) in the laser plane";
     }
   }
+  // The cell rehearsed: raw profiles + the logged flange poses + the hand-eye, assembled, give
+  // the scan back (same grid and gaps, every point within 0.1 um: one float rounding).
+  const std::string he = " --hand-eye '1 -2 80 0.9659258262890683 0 0 0.25881904510252074'";
+  ASSERT_EQ(run(args + (dir / "c.pcd") + " --flange-poses " + (dir / "flange.csv") + he, dir).code,
+            0);
+  const auto a = run("assemble --profiles " + (dir / "raw.pcd") + " --poses " +
+                         (dir / "flange.csv") + he + " -o " + (dir / "assembled.pcd"),
+                     dir);
+  ASSERT_EQ(a.code, 0) << a.err;
+  const PointCloud scan = io::read_cloud(dir / "a.pcd"),
+                   assembled = io::read_cloud(dir / "assembled.pcd");
+  ASSERT_EQ(assembled.height, scan.height);
+  for (size_t k = 0; k < scan.size(); ++k) {
+    ASSERT_EQ(assembled.points[k].allFinite(), scan.points[k].allFinite()) << k;
+    if (scan.points[k].allFinite()) {
+      ASSERT_LE((assembled.points[k] - scan.points[k]).norm(), 1e-4) << k;
+    }
+  }
 }
 
 // Inputs that once killed the CAD parsers inside laserfit (tests/data/crashes/README.md): now

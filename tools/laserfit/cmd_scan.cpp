@@ -13,7 +13,7 @@ namespace laserfit::cli {
 namespace {
 
 struct Options {
-  std::string scene, output, gt, raw, noise = "on";
+  std::string scene, output, gt, raw, flange_poses, hand_eye = "0 0 0 1 0 0 0", noise = "on";
   std::optional<uint64_t> seed;
   bool json = false;
 };
@@ -40,6 +40,14 @@ int run(const Options& o) {
   if (!o.raw.empty()) {
     files.push_back(std::make_unique<AtomicFile>(o.raw));
     io::write_cloud(*files.back(), r.raw);
+  }
+  if (!o.flange_poses
+           .empty()) {  // what the arm logs: T_base_flange per profile, as assemble reads it
+    const Pose T_flange_sensor = parse_pose(o.hand_eye, "--hand-eye");
+    files.push_back(std::make_unique<AtomicFile>(o.flange_poses, false));
+    files.back()->stream() << "# T_base_flange per profile (nominal): x y z qw qx qy qz, mm\n";
+    for (const Pose& T_base_sensor : r.T_base_sensor_nominal)
+      files.back()->stream() << pose_to_string(T_base_sensor * T_flange_sensor.inverse()) << "\n";
   }
   if (!o.gt.empty()) {
     files.push_back(std::make_unique<AtomicFile>(o.gt, false));
@@ -80,7 +88,8 @@ int run(const Options& o) {
     << " outliers, " << s.mixed_pixels << " mixed pixels\n"
     << "  " << r.timings.total_s << " s (" << pts_per_s / 1e6 << " M profile points/s)\n"
     << "  wrote " << o.output << (o.gt.empty() ? "" : ", " + o.gt)
-    << (o.raw.empty() ? "" : ", " + o.raw) << "\n";
+    << (o.raw.empty() ? "" : ", " + o.raw) << (o.flange_poses.empty() ? "" : ", " + o.flange_poses)
+    << "\n";
   emit(o.json, j, h.str());
   return 0;
 }
@@ -100,6 +109,12 @@ Command add_scan(CLI::App& root) {
   app->add_option("--gt", o->gt, "ground-truth JSON (object and sensor poses, seed, settings)");
   app->add_option("--raw", o->raw,
                   "raw profiles in the sensor frame (x, 0, z) as a driver delivers them");
+  app->add_option("--flange-poses", o->flange_poses,
+                  "CSV of the flange pose per profile (nominal), as an arm would log it for "
+                  "laserfit assemble with --raw's profiles");
+  app->add_option("--hand-eye", o->hand_eye,
+                  "T_flange_sensor 'x y z qw qx qy qz' for --flange-poses")
+      ->capture_default_str();
   app->add_option("--seed", o->seed, "random seed (overrides the scene's)");
   app->add_option("--noise", o->noise, "on | off (off: ideal sensor and arm)")
       ->capture_default_str();
