@@ -158,8 +158,8 @@ TEST(Cli, ParserLimitsAreOneLineErrors) {
 
 // A flat plate registered against itself can slide in its plane: `ambiguous`. --fail-on turns
 // that into exit code 3 for scripts, results still printed; without it, or with --fail-on failed,
-// the run is done (0).
-TEST(Cli, FailOnGivesExitCode3) {
+// the run is done (0). Priors per reference.
+TEST(Cli, FailOnGivesExitCode3AndPriorsArePerReference) {
   test::TempDir dir;
   PointCloud plate;
   for (int i = 0; i < 2500; ++i) {
@@ -177,6 +177,18 @@ TEST(Cli, FailOnGivesExitCode3) {
   EXPECT_EQ(run(reg + " --fail-on failed", dir).code, 0);
   EXPECT_EQ(run(reg, dir).code, 0);
   EXPECT_EQ(run(reg + " --fail-on maybe", dir).code, 2);
+  // One prior per reference, in order: refined from each alone, the plate stays where its own
+  // prior put it (it may slide in its plane), to 1 um.
+  const auto two =
+      run(reg + " --ref " + (dir / "plate.pcd") +
+              " --refine-only --json --prior '0 0 0 1 0 0 0' --prior '0.3 0.2 0 1 0 0 0'",
+          dir);
+  ASSERT_EQ(two.code, 0) << two.err;
+  const auto results = io::Json::parse(two.out)["results"];
+  ASSERT_EQ(results.size(), 2u);
+  EXPECT_NEAR(results[0]["T_scan_ref"]["t_mm"][0].get<double>(), 0.0, 1e-3);
+  EXPECT_NEAR(results[1]["T_scan_ref"]["t_mm"][0].get<double>(), 0.3, 1e-3);
+  EXPECT_NEAR(results[1]["T_scan_ref"]["t_mm"][1].get<double>(), 0.2, 1e-3);
 }
 
 TEST(Cli, BadInputOneLineNonZeroNoOutput) {
@@ -231,7 +243,10 @@ TEST(Cli, BadInputOneLineNonZeroNoOutput) {
            " --unit furlong",
        ""},
       {"register --scan " + too_long + " --ref " + (dir / "plate_mm.pcd"), ""},
-      {"scan " + kPanel + " -o " + cloud, cloud},                                // not a scene file
+      {"register --scan " + (dir / "plate_mm.pcd") + " --ref " + (dir / "plate_mm.pcd") +
+           " --prior '0 0 0 1 0 0 0' --prior '1 0 0 1 0 0 0'",
+       ""},                                        // two priors for one reference
+      {"scan " + kPanel + " -o " + cloud, cloud},  // not a scene file
       {assemble + "--poses " + (dir / "one_pose.csv") + " -o " + cloud, cloud},  // 1 pose, 2 rows
       {assemble + "--poses " + (dir / "prof.csv") + " -o " + cloud, cloud},      // not poses
       {assemble + "--poses " + (dir / "two_poses.csv") + " --width 3 -o " + cloud, cloud},

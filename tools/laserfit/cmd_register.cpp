@@ -16,14 +16,14 @@ namespace laserfit::cli {
 namespace {
 
 struct Options {
-  std::string scan, unit = "mm", fail_on, method = "ceres", coarse, prior, q0, viewpoint,
-                    thresholds, object, thin = "auto";
+  std::string scan, unit = "mm", fail_on, method = "ceres", coarse, viewpoint, thresholds, object,
+                    thin = "auto";
   std::string weak_rotation, weak_translation;  // x | y | z of the reference frame
   double thin_axis_sigma = registration::ThinSettings{}.axis_prior_deg;
   double max_sigma_um = registration::TrustSettings{}.max_sigma_mm * 1e3;
   double max_sigma_deg = registration::TrustSettings{}.max_sigma_deg;
-  CLI::App* app = nullptr;  // to tell the options given from the defaults
-  std::vector<std::string> refs;
+  CLI::App* app = nullptr;                     // to tell the options given from the defaults
+  std::vector<std::string> refs, priors, q0s;  // --prior / --q0: one for all, or one per --ref
   double voxel = 0, rho_rot = 30, rho_icp = 0.05;
   int attempts = 8;
   uint64_t seed = 1;
@@ -40,6 +40,28 @@ Eigen::Vector3d parse_vec3(const std::string& text, const std::string& what) {
   if (!(in >> v.x() >> v.y() >> v.z()) || !v.allFinite())
     throw Error(what + ": expected 'x y z' (mm)");
   return v;
+}
+
+Eigen::Quaterniond parse_q0(const std::string& text) {
+  std::istringstream in(text);
+  double w, x, y, z;
+  if (!(in >> w >> x >> y >> z)) throw Error("--q0: expected 'w x y z'");
+  const Eigen::Quaterniond q(w, x, y, z);
+  if (!(std::abs(q.norm() - 1) <= 1e-3)) throw Error("--q0: not a unit quaternion");
+  return q.normalized();
+}
+
+// One value for every reference, or one per --ref in order: parsed, as many as there are refs.
+template <class Parse>
+auto per_reference(const std::vector<std::string>& given, size_t refs, const std::string& option,
+                   Parse parse) -> std::vector<std::optional<decltype(parse(given[0]))>> {
+  std::vector<std::optional<decltype(parse(given[0]))>> out(refs);
+  if (given.empty()) return out;
+  if (given.size() != 1 && given.size() != refs)
+    throw Error(option + " given " + std::to_string(given.size()) + " times for " +
+                std::to_string(refs) + " references: give one for all, or one per --ref in order");
+  for (size_t i = 0; i < refs; ++i) out[i] = parse(given[given.size() == 1 ? 0 : i]);
+  return out;
 }
 
 io::Json result_json(const std::string& ref, const registration::RegistrationResult& r) {
@@ -104,18 +126,12 @@ int run(const Options& o) {
   s.trust.weak_rotation = registration::named_axis(o.weak_rotation);
   s.trust.weak_translation = registration::named_axis(o.weak_translation);
   s.trust.max_sigma_mm = o.max_sigma_um * 1e-3, s.trust.max_sigma_deg = o.max_sigma_deg;
-  if (!o.prior.empty()) {
-    s.prior = parse_pose(o.prior, "--prior"), s.skip_coarse = o.refine_only;
-    s.prior->translation() *= to_mm;
-  }
-  if (!o.q0.empty()) {
-    std::istringstream in(o.q0);
-    double w, x, y, z;
-    if (!(in >> w >> x >> y >> z)) throw Error("--q0: expected 'w x y z'");
-    const Eigen::Quaterniond q(w, x, y, z);
-    if (std::abs(q.norm() - 1) > 1e-3) throw Error("--q0: not a unit quaternion");
-    s.q0 = q.normalized();
-  }
+  const auto priors = per_reference(o.priors, o.refs.size(), "--prior", [&](const std::string& t) {
+    Pose T = parse_pose(t, "--prior");
+    T.translation() *= to_mm;
+    return T;
+  });
+  const auto q0s = per_reference(o.q0s, o.refs.size(), "--q0", parse_q0);
   if (!o.viewpoint.empty())
     s.pre.use_viewpoint = true, s.pre.viewpoint = parse_vec3(o.viewpoint, "--viewpoint") * to_mm;
   else if (scan.sensor_origin)
@@ -123,10 +139,12 @@ int run(const Options& o) {
 
   io::Json results = io::Json::array();
   std::ostringstream h;
-  for (const auto& ref_path : o.refs) {
+  for (size_t i = 0; i < o.refs.size(); ++i) {
+    const std::string& ref_path = o.refs[i];
     const PointCloud ref = io::read_cloud(ref_path, unit);
-    const registration::RegistrationSettings rs = settings_for(
+    registration::RegistrationSettings rs = settings_for(
         !o.object.empty() ? o.object : std::filesystem::path(ref_path).stem().string());
+    rs.prior = priors[i], rs.q0 = q0s[i], rs.skip_coarse = o.refine_only && priors[i];
     registration::RegistrationResult r;
     try {
       r = registration::register_scan(scan, ref, rs);
@@ -184,11 +202,14 @@ Command add_register(CLI::App& root) {
                   "coarse stage: gated (rho_rot tested on every RANSAC hypothesis) | pcl (PCL "
                   "SampleConsensusPrerejective, rho_rot on its result; the default of paper)")
       ->check(CLI::IsMember(names_of<registration::CoarseMethod>()));
-  app->add_option("--prior", o->prior,
-                  "prior pose T_scan_ref 'x y z qw qx qy qz' (e.g. from the arm): the first "
+  app->add_option("--prior", o->priors,
+                  "prior pose T_scan_ref 'x y z qw qx qy qz' (e.g. from the arm), once for every "
+                  "--ref or once per --ref in their order: the first "
                   "hypothesis, RANSAC after it");
   app->add_flag("--refine-only", o->refine_only, "with --prior: refine from it, no RANSAC");
-  app->add_option("--q0", o->q0, "prior orientation 'w x y z' for the rho_rot gate (paper's q0)");
+  app->add_option("--q0", o->q0s,
+                  "prior orientation 'w x y z' for the rho_rot gate (paper's q0); once, or once "
+                  "per --ref");
   app->add_option("--rho-rot", o->rho_rot, "rho_rot: reject RANSAC poses farther from q0 (deg)")
       ->capture_default_str();
   app->add_option("--rho-icp", o->rho_icp, "rho_ICP: stop below this fitness, in voxel^2")
