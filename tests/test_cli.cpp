@@ -59,8 +59,9 @@ TEST(Cli, RefcloudIsSeededAndRecordsItsProvenance) {
   test::TempDir dir;
   const std::string args = "refcloud " + kPlug + " -n 20000 --view-dir 0,0,1 --seed 7 -o ";
   ASSERT_EQ(run(args + (dir / "a.pcd"), dir).code, 0);
-  ASSERT_EQ(run(args + (dir / "b.pcd"), dir).code, 0);
+  ASSERT_EQ(run(args + (dir / "b.pcd") + " --jobs 1", dir).code, 0);  // one thread everywhere
   EXPECT_TRUE(test::read_bytes(dir / "a.pcd") == test::read_bytes(dir / "b.pcd"));
+  EXPECT_EQ(run(args + (dir / "b.pcd") + " --jobs 0", dir).code, 2);
   const auto meta = io::read_header_metadata(dir / "a.pcd");
   EXPECT_EQ(meta.at("seed"), "7");
   EXPECT_EQ(meta.at("views"), "1");
@@ -77,8 +78,9 @@ TEST(Cli, ScanWritesCloudGroundTruthAndRawProfiles) {
   const auto r = run(args + (dir / "a.pcd"), dir);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(io::Json::parse(r.out)["width"], 2048);
-  ASSERT_EQ(run(args + (dir / "b.pcd"), dir).code, 0);
+  ASSERT_EQ(run(args + (dir / "b.pcd") + " --jobs 1", dir).code, 0);  // one thread everywhere
   EXPECT_TRUE(test::read_bytes(dir / "a.pcd") == test::read_bytes(dir / "b.pcd"));
+  EXPECT_EQ(run(args + (dir / "b.pcd") + " --jobs 0", dir).code, 2);
   const auto gt = io::Json::parse(test::read_bytes(dir / "gt.json"));
   EXPECT_EQ(gt["seed"], 3);
   EXPECT_EQ(gt["objects"].size(), 2u);

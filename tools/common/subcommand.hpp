@@ -1,12 +1,16 @@
 #pragma once
 // What both CLIs share: each subcommand registers itself on the CLI11 app and returns the function
 // that runs it; main parses, runs the chosen one and turns an exception into one line on stderr.
+#include <tbb/global_control.h>
 #include <CLI/CLI.hpp>
 #include <exception>
 #include <functional>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "laserfit/core/cpu_budget.hpp"
 
 namespace laserfit::tools {
 
@@ -41,6 +45,15 @@ inline int run_subcommand(CLI::App& app, const std::vector<Command>& commands, i
   }
   for (const auto& c : commands) {
     if (!c.app->parsed()) continue;
+    // --jobs, where a command has it, bounds every pool: TBB's, PCL's OpenMP and laserfit's own;
+    // without it TBB gets what the process may use (a cgroup quota or Slurm's CPUs, not the cores).
+    std::optional<tbb::global_control> tbb_limit;
+    if (const CLI::Option* jobs = c.app->get_option_no_throw("--jobs")) {
+      const int n = jobs->count() > 0 ? jobs->as<int>() : 0;
+      if (n > 0) set_thread_limit(n);
+      tbb_limit.emplace(tbb::global_control::max_allowed_parallelism,
+                        size_t(n > 0 ? n : cpu_budget().jobs));
+    }
     try {
       return c.run();
     } catch (const std::exception& e) {

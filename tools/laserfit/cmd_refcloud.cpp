@@ -19,6 +19,7 @@ struct Options {
   uint64_t seed = 1;
   std::vector<std::string> views, view_dirs;
   bool static_sensor = false, json = false;
+  int jobs = 0;
 };
 
 // Sensor on the ray from the part's bbox centre along `dir`, looking back at the centre, placed so
@@ -157,6 +158,7 @@ Command add_refcloud(CLI::App& root) {
   add_reader_limits(*app, o->timeout, o->memory);
   app->add_option("--unit", o->unit, "unit of the mesh file (as for import)")
       ->capture_default_str();
+  add_jobs(*app, o->jobs);
   app->add_flag("--json", o->json, "machine-readable result on stdout");
   return {app, [o] {
             if (o->count == 0 && o->density <= 0) throw Error("give --count N or --density D");

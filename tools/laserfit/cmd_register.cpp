@@ -26,6 +26,7 @@ struct Options {
   std::vector<std::string> refs, priors, q0s;  // --prior / --q0: one for all, or one per --ref
   double voxel = 0, rho_rot = 30, rho_icp = 0.05;
   int attempts = 8;
+  int jobs = 0;
   uint64_t seed = 1;
   bool json = false, no_segment = false, refine_only = false;
   int max_clusters = 4;
@@ -264,6 +265,7 @@ Command add_register(CLI::App& root) {
                   "exit 3 (results still printed) when a registration is failed, or with "
                   "'ambiguous' when it is ambiguous or failed: for scripts that must not act on it")
       ->check(CLI::IsMember({"ambiguous", "failed"}));
+  add_jobs(*app, o->jobs);
   app->add_flag("--json", o->json, "machine-readable result on stdout");
   o->app = app;
   return {app, [o] { return run(*o); }};

@@ -16,6 +16,7 @@ struct Options {
   std::string scene, output, gt, raw, flange_poses, hand_eye = "0 0 0 1 0 0 0", noise = "on";
   std::optional<uint64_t> seed;
   bool json = false;
+  int jobs = 0;
 };
 
 int run(const Options& o) {
@@ -118,6 +119,7 @@ Command add_scan(CLI::App& root) {
   app->add_option("--seed", o->seed, "random seed (overrides the scene's)");
   app->add_option("--noise", o->noise, "on | off (off: ideal sensor and arm)")
       ->capture_default_str();
+  add_jobs(*app, o->jobs);
   app->add_flag("--json", o->json, "machine-readable result on stdout");
   return {app, [o] { return run(*o); }};
 }

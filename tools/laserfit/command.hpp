@@ -45,6 +45,13 @@ inline void add_reader_limits(CLI::App& app, double& timeout_s, double& memory_m
       ->capture_default_str();
 }
 
+// --jobs on a command that works in parallel: the threads it may use, in every pool (TBB, PCL's
+// OpenMP, laserfit's own; run_subcommand applies it). The results do not depend on it.
+inline void add_jobs(CLI::App& app, int& jobs) {
+  app.add_option("--jobs", jobs, "threads at most (default: all this process may use)")
+      ->check(CLI::PositiveNumber);
+}
+
 // "a, b, c" (for --help texts listing an enum's names).
 inline std::string join(const std::vector<std::string>& names) {
   std::string out;

@@ -2,6 +2,7 @@
 
 #include <sched.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -66,5 +67,12 @@ CpuBudget cpu_budget() {
   b.jobs = std::max(1, b.jobs);
   return b;
 }
+
+namespace {
+std::atomic<int> g_thread_limit{0};
+}  // namespace
+
+void set_thread_limit(int threads) { g_thread_limit = threads > 0 ? threads : 0; }
+int thread_limit() { return g_thread_limit; }
 
 }  // namespace laserfit

@@ -6,12 +6,13 @@
 #include <cstdlib>
 #include <mutex>
 
+#include "laserfit/core/cpu_budget.hpp"
 #include "stages.hpp"
 
 namespace laserfit::registration {
 
 Features::Ptr fpfh(const PclCloud::Ptr& cloud, double radius) {
-  pcl::FPFHEstimationOMP<PointT, PointT, pcl::FPFHSignature33> est(2);
+  pcl::FPFHEstimationOMP<PointT, PointT, pcl::FPFHSignature33> est(threads_or(2));
   est.setInputCloud(cloud);
   est.setInputNormals(cloud);
   est.setSearchMethod(Tree::Ptr(new Tree));

@@ -1,4 +1,5 @@
 #include "laserfit/registration/preprocess.hpp"
+#include "laserfit/core/cpu_budget.hpp"
 
 #include <pcl/features/normal_3d_omp.h>
 #include <pcl/filters/statistical_outlier_removal.h>
@@ -41,7 +42,7 @@ double auto_voxel_mm(const PointCloud& ref) {
 
 PclCloud::Ptr with_normals(const PclCloud::Ptr& cloud, const PclCloud::Ptr& surface, double radius,
                            const PreprocessSettings& s, bool keep_side) {
-  pcl::NormalEstimationOMP<PointT, PointT> ne(2);
+  pcl::NormalEstimationOMP<PointT, PointT> ne(threads_or(2));  // same normals for any count
   ne.setInputCloud(cloud);
   ne.setSearchSurface(surface);
   ne.setSearchMethod(Tree::Ptr(new Tree));

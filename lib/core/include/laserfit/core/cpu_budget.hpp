@@ -15,4 +15,11 @@ struct CpuBudget {
 
 CpuBudget cpu_budget();
 
+// The thread limit a command was given (--jobs), for the stages that size their own pools (PCL's
+// OpenMP estimators); 0 when none was given. The CLIs also cap TBB with it (tbb::global_control).
+void set_thread_limit(int threads);
+int thread_limit();
+// Threads for a stage that would use `fallback` without a limit: the limit when one was given.
+inline int threads_or(int fallback) { return thread_limit() > 0 ? thread_limit() : fallback; }
+
 }  // namespace laserfit
