@@ -105,7 +105,7 @@ static Benchmark load_benchmark_unguarded(const std::string& path) {
   b.name = R.str(root, "name", "", "benchmark");
   if (b.name.empty() || b.name.find_first_of("/ \t") != std::string::npos)
     R.fail("name", "must be a non-empty word (it names datasets/<name>/)");
-  b.seed = uint64_t(R.integer(root, "seed", 1, "benchmark", 0, (1LL << 53)));
+  b.seed = R.seed(root, "seed", 1, "benchmark");
   b.trials = int(R.integer(root, "trials", 10, "benchmark", 1, 1000000));
   b.mode = R.str(root, "mode", "grid", "benchmark");
   if (b.mode != "grid" && b.mode != "random") R.fail("mode", "must be grid or random");

@@ -88,7 +88,7 @@ static Thresholds load_thresholds_unguarded(const std::string& path) {
   t.benchmark = R.str(prov, "benchmark", "", "provenance");
   t.benchmark_file = R.str(prov, "file", "", "provenance");
   t.benchmark_digest = R.str(prov, "digest", "", "provenance");
-  t.seed = uint64_t(R.integer(prov, "seed", 0, "provenance", 0, 1LL << 53));
+  t.seed = R.seed(prov, "seed", 0, "provenance");
   t.train = R.str(prov, "train", "", "provenance");
   t.test = R.str(prov, "test", "", "provenance");
   const auto ho = prov["held_out"];
