@@ -5,6 +5,7 @@
 #include "commands.hpp"
 #include "laserfit/controller/controller.hpp"
 #include "laserfit/core/error.hpp"
+#include "laserfit/core/units.hpp"
 #include "laserfit/io/cloud_io.hpp"
 
 namespace laserfit::ctl {
@@ -12,6 +13,7 @@ namespace {
 
 struct Options {
   std::string cell, scan, target_ref, part_ref, ee_pose, target_prior, thresholds, out;
+  std::string unit = "mm";  // of the clouds that do not state one and of the two poses
   bool orientation = false, json = false;
   uint64_t seed = 1;
 };
@@ -22,13 +24,15 @@ int run(const Options& o) {
   ControllerSettings s = settings_for(cs);
   s.thresholds = registration::load_thresholds(o.thresholds);
   const cell::Cell c(cs, 0);  // only the believed quantities are used here
-  const Pose flange = parse_pose(o.ee_pose, "--ee-pose");
-  const Pose target_prior = parse_pose(o.target_prior, "--target-prior");
-  const PointCloud scan = io::read_cloud(o.scan);
+  const Unit unit = parse_unit(o.unit);
+  Pose flange = parse_pose(o.ee_pose, "--ee-pose");
+  Pose target_prior = parse_pose(o.target_prior, "--target-prior");
+  flange.translation() *= unit_to_mm(unit), target_prior.translation() *= unit_to_mm(unit);
+  const PointCloud scan = io::read_cloud(o.scan, unit);
   std::vector<std::string> log;
   const Measurement m =
-      measure(scan, io::read_cloud(o.target_ref), io::read_cloud(o.part_ref), target_prior,
-              c.part_believed_from_flange(flange), cs, s, o.seed, log);
+      measure(scan, io::read_cloud(o.target_ref, unit), io::read_cloud(o.part_ref, unit),
+              target_prior, c.part_believed_from_flange(flange), cs, s, o.seed, log);
   if (!m.ok) throw Error(o.scan, "no correction: " + m.reason);
   Pose approach = cs.T_target_part_insert;
   approach.translation() = cs.approach_mm;
@@ -79,6 +83,11 @@ Command add_correct(CLI::App& root) {
   app->add_flag("--orientation", o->orientation,
                 "correct the orientation too (else position only, as in the paper)");
   app->add_option("--seed", o->seed, "RANSAC seed")->capture_default_str();
+  app->add_option("--unit", o->unit,
+                  "unit of the clouds that do not state one (laserfit's say mm) and of --ee-pose "
+                  "and --target-prior: mm | m | um | cm | in; the trajectory is written in mm")
+      ->check(CLI::IsMember({"mm", "m", "um", "cm", "in"}))
+      ->capture_default_str();
   app->add_flag("--json", o->json, "machine-readable result on stdout");
   return {app, [o] { return run(*o); }};
 }
