@@ -77,7 +77,7 @@ Command add_correct(CLI::App& root) {
       ->required();
   app->add_option("--thresholds", o->thresholds, "tuned registration thresholds (laserfit tune)")
       ->required();
-  app->add_option("-o,--out", o->out,
+  app->add_option("-o,--output,--out", o->out,
                   "trajectory CSV: t, x, y, z (mm), qw, qx, qy, qz in the assembling arm's base")
       ->required();
   app->add_flag("--orientation", o->orientation,

@@ -125,7 +125,7 @@ Command add_sim(CLI::App& root) {
   app->add_option("--seed", o->seed, "seed of the arms' errors, noise and scans")
       ->capture_default_str();
   app->add_option("--jobs", o->jobs, "trials in parallel")->capture_default_str();
-  app->add_option("--out", o->out,
+  app->add_option("-o,--output,--out", o->out,
                   "write every trial's outcome and decision log here (JSON Lines)");
   app->add_option("--dump", o->dump,
                   "write every scan and the reference clouds here (to look at them)");

@@ -139,7 +139,7 @@ Command add_bench(CLI::App& root) {
   app->add_option("--shard", o->shard,
                   "run one deterministic slice i/N (trials k with k mod N = i)")
       ->capture_default_str();
-  app->add_option("--out", o->out,
+  app->add_option("-o,--output,--out", o->out,
                   "result directory (default out/bench/<name>); an interrupted run there resumes");
   app->add_option("--jobs", o->jobs,
                   "trials in parallel (default: the CPUs this process may use: affinity, cgroup "
@@ -161,7 +161,7 @@ Command add_bench(CLI::App& root) {
   auto* gen = app->add_subcommand(
       "generate", "Write the benchmark's dataset: scans, ground truth, manifest with CRC-32s");
   gen->add_option("benchmark", o->gen_file, "benchmark definition (YAML)")->required();
-  gen->add_option("-o,--out", o->gen_out, "dataset directory (default datasets/<name>)");
+  gen->add_option("-o,--output,--out", o->gen_out, "dataset directory (default datasets/<name>)");
   gen->add_option("--jobs", o->jobs, "trials in parallel (the bytes do not depend on it)");
   gen->add_option("--repetitions", o->repetitions, "only repetitions a:b of every cell");
   gen->add_option("--scenes", o->scenes, "comma-separated: only these scenes");
@@ -170,7 +170,7 @@ Command add_bench(CLI::App& root) {
   auto* merge =
       app->add_subcommand("merge", "Combine the result directories of shards 0..N-1 into one run");
   merge->add_option("dirs", o->merge_dirs, "shard result directories")->required();
-  merge->add_option("-o,--out", o->merge_out, "merged result directory")->required();
+  merge->add_option("-o,--output,--out", o->merge_out, "merged result directory")->required();
   merge->add_flag("--json", o->json, "machine-readable summary on stdout");
   return {app, [o, gen, merge] { return run(*o, gen, merge); }};
 }

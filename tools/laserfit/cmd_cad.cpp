@@ -94,7 +94,7 @@ Command add_cad(CLI::App& root) {
       "Generate the project's parametric CAD models (needle + thread tip, NIST Task Board 1 "
       "USB-A plug/receptacle, round and square pegs with holes) as mm meshes + parameters.");
   app->add_option("model", o->model, "model name, or 'all'");
-  app->add_option("-o,--outdir", o->outdir, "output directory")->capture_default_str();
+  app->add_option("-o,--output,--outdir", o->outdir, "output directory")->capture_default_str();
   app->add_option("--set", o->sets, "override a parameter: name=value (mm); repeatable");
   app->add_flag("--list", o->list, "list models and their parameters");
   app->add_flag("--json", o->json, "machine-readable result on stdout");

@@ -60,7 +60,7 @@ Command add_report(CLI::App& root, int argc, char** argv) {
                   "results.jsonl files of laserfit bench (run.json and overlays/ next "
                   "to them are used)")
       ->required();
-  app->add_option("-o,--out", o->out, "report directory (README.md, PNGs, summary.csv)")
+  app->add_option("-o,--output,--out", o->out, "report directory (README.md, PNGs, summary.csv)")
       ->required();
   app->add_flag("--no-overlays", o->no_overlays, "skip the overlay renderings");
   app->add_option(

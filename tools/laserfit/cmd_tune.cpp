@@ -69,7 +69,7 @@ Command add_tune(CLI::App& root) {
   app->add_option("--train", o->train,
                   "training repetitions a:b of every cell (default: the first half)");
   app->add_option("--test", o->test, "held-out repetitions c:d (default: the second half)");
-  app->add_option("-o,--out", o->out, "thresholds file to write (YAML)")->required();
+  app->add_option("-o,--output,--out", o->out, "thresholds file to write (YAML)")->required();
   app->add_option("--method", o->method, "method to tune")
       ->check(CLI::IsMember(names_of<registration::Method>()))
       ->capture_default_str();
