@@ -93,6 +93,18 @@ io::Json result_json(const std::string& ref, const registration::RegistrationRes
           {"log", r.log}};
 }
 
+// Three lines per reference: status, pose, fit.
+std::string human_text(const std::string& ref_path, const registration::RegistrationResult& r) {
+  const auto tq = pose_to_tq(r.T_scan_ref);
+  std::ostringstream h;
+  h << ref_path << ": " << registration::status_name(r.status)
+    << (r.reason.empty() ? "" : " (" + r.reason + ")") << "\n  T_scan_ref  t = [" << tq[0] << ", "
+    << tq[1] << ", " << tq[2] << "] mm, q = [" << tq[3] << ", " << tq[4] << ", " << tq[5] << ", "
+    << tq[6] << "]\n  fit         rmse " << r.inlier_rmse_mm * 1e3 << " um, overlap " << r.overlap
+    << ", " << r.attempts << " attempt(s)\n";
+  return h.str();
+}
+
 int run(const Options& o) {
   const Unit unit = parse_unit(o.unit);
   const double to_mm = unit_to_mm(unit);
@@ -154,12 +166,7 @@ int run(const Options& o) {
     }
     results.push_back(result_json(ref_path, r));
     results.back()["cluster"] = r.part;
-    const auto tq = pose_to_tq(r.T_scan_ref);
-    h << ref_path << ": " << registration::status_name(r.status)
-      << (r.reason.empty() ? "" : " (" + r.reason + ")") << "\n  T_scan_ref  t = [" << tq[0] << ", "
-      << tq[1] << ", " << tq[2] << "] mm, q = [" << tq[3] << ", " << tq[4] << ", " << tq[5] << ", "
-      << tq[6] << "]\n  fit         rmse " << r.inlier_rmse_mm * 1e3 << " um, overlap " << r.overlap
-      << ", " << r.attempts << " attempt(s)\n";
+    h << human_text(ref_path, r);
   }
   bool refused = false;  // --fail-on: a status scripts must not act on
   for (const auto& r : results)
