@@ -26,6 +26,14 @@ inline constexpr const char* kExitCodes =
     "the problem; no output file); 2 usage error (unknown option, value out of range); 3 done, "
     "but a registration has the status named by --fail-on.";
 
+// A length-unit option (default mm) for inputs that do not state their unit; results stay in mm.
+inline CLI::Option* add_unit_option(CLI::App& app, const std::string& name, std::string& unit,
+                                    const std::string& what) {
+  return app.add_option(name, unit, what + ": mm | m | um | cm | in")
+      ->check(CLI::IsMember({"mm", "m", "um", "cm", "in"}))
+      ->capture_default_str();
+}
+
 // "<program> <subcommand>: error: <what>" and exit code 1 on any error; a usage error is one line
 // and exit code 2; --help and --version exit 0.
 inline int run_subcommand(CLI::App& app, const std::vector<Command>& commands, int argc,

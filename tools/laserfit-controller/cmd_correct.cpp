@@ -83,11 +83,10 @@ Command add_correct(CLI::App& root) {
   app->add_flag("--orientation", o->orientation,
                 "correct the orientation too (else position only, as in the paper)");
   app->add_option("--seed", o->seed, "RANSAC seed")->capture_default_str();
-  app->add_option("--unit", o->unit,
-                  "unit of the clouds that do not state one (laserfit's say mm) and of --ee-pose "
-                  "and --target-prior: mm | m | um | cm | in; the trajectory is written in mm")
-      ->check(CLI::IsMember({"mm", "m", "um", "cm", "in"}))
-      ->capture_default_str();
+  tools::add_unit_option(
+      *app, "--unit", o->unit,
+      "unit of the clouds that do not state one (laserfit's say mm) and of --ee-pose "
+      "and --target-prior; the trajectory is written in mm");
   app->add_flag("--json", o->json, "machine-readable result on stdout");
   return {app, [o] { return run(*o); }};
 }

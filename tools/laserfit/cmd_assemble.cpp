@@ -79,13 +79,9 @@ Command add_assemble(CLI::App& root) {
       ->capture_default_str();
   app->add_option("--width", o->width, "points per profile (.bin: required; .csv: checked)")
       ->check(CLI::Range(0, 100000));
-  app->add_option("--unit", o->unit, "unit of the profiles' x and z: mm | m | um | cm | in")
-      ->check(CLI::IsMember({"mm", "m", "um", "cm", "in"}))
-      ->capture_default_str();
-  app->add_option("--pose-unit", o->pose_unit,
-                  "unit of the translations of --poses and --hand-eye (a ROS arm: m)")
-      ->check(CLI::IsMember({"mm", "m", "um", "cm", "in"}))
-      ->capture_default_str();
+  tools::add_unit_option(*app, "--unit", o->unit, "unit of the profiles' x and z");
+  tools::add_unit_option(*app, "--pose-unit", o->pose_unit,
+                         "unit of the translations of --poses and --hand-eye (a ROS arm: m)");
   app->add_flag("--zero-is-invalid", o->zero_is_invalid,
                 "z = 0 marks no measurement (else only NaN or an empty field does)");
   app->add_flag("--json", o->json, "machine-readable result on stdout");

@@ -196,11 +196,10 @@ Command add_register(CLI::App& root) {
       ->required();
   app->add_option("--ref", o->refs, "reference cloud with normals (laserfit refcloud); repeatable")
       ->required();
-  app->add_option("--unit", o->unit,
-                  "unit of the clouds that do not state one (laserfit's own files say mm) and of "
-                  "--prior and --viewpoint: mm | m | um | cm | in; results are always mm")
-      ->check(CLI::IsMember({"mm", "m", "um", "cm", "in"}))
-      ->capture_default_str();
+  tools::add_unit_option(
+      *app, "--unit", o->unit,
+      "unit of the clouds that do not state one (laserfit's own files say mm) and of "
+      "--prior and --viewpoint; results are always mm");
   app->add_option("--method", o->method,
                   "method: " + join(names_of<registration::Method>()) +
                       " (paper: Algorithm 1 as published, PCL's RANSAC and ICP)")
