@@ -33,8 +33,10 @@ std::string shortest(double v) {  // the shortest decimal that reads back as the
 }
 
 // The header's laserfit.* lines: the metadata and the sensor origin (shortest round-trip decimal).
+// The unit is always stated (a cloud is millimetres inside), so that whoever reads the file back
+// with another --unit does not rescale it.
 std::map<std::string, std::string> header_metadata(const PointCloud& c) {
-  std::map<std::string, std::string> m;
+  std::map<std::string, std::string> m = {{"unit", "mm"}};
   for (const auto& [k, v] : c.metadata) m[k] = one_line(v);
   if (c.sensor_origin) {
     const Eigen::Vector3d& o = *c.sensor_origin;
