@@ -34,7 +34,7 @@ TEST(Cli, HelpForEverySubcommand) {
   test::TempDir dir;
   EXPECT_EQ(run("--help", dir).code, 0);
   for (const char* sub : {"import", "refcloud", "cad", "scan", "assemble", "register", "bench",
-                          "bench generate", "bench merge", "tune", "report"}) {
+                          "bench generate", "bench merge", "bench export", "tune", "report"}) {
     const auto r = run(std::string(sub) + " --help", dir);
     EXPECT_EQ(r.code, 0) << sub;
     EXPECT_NE(r.out.find("--json"), std::string::npos) << sub;
@@ -151,7 +151,8 @@ TEST(Cli, ParserLimitsAreOneLineErrors) {
                        "is just large)\n");
   // Usage errors: one line, exit 2, nothing attempted.
   for (const char* args : {"refcloud x.ply -n -5 -o y.pcd", "refcloud x.ply --density -1 -o y.pcd",
-                           "import x.step --timeout -1 -o y.ply", "import"}) {
+                           "import x.step --timeout -1 -o y.ply", "import",
+                           "bench export b.yaml -o d"}) {  // no layout chosen
     r = run(args, dir);
     EXPECT_EQ(r.code, 2) << args;
     EXPECT_EQ(lines(r.err), 1u) << r.err;
@@ -220,6 +221,11 @@ TEST(Cli, BadInputOneLineNonZeroNoOutput) {
   test::write_text(dir / "prof.csv", "1,90,2,91\n1,90,2,91\n");  // two profiles of two points
   test::write_text(dir / "one_pose.csv", "500 0 200 1 0 0 0\n");
   test::write_text(dir / "two_poses.csv", "500 0 200 1 0 0 0\n500 1 200 1 0 0 0\n");
+  std::filesystem::create_directories(dir / "recorded");
+  test::write_text(dir / "recorded/scene_gt.json", "{\"0\": [{\"obj_id\": 1}]}");
+  test::write_text(dir / "recorded.yaml",  // ground truth without a pose
+                   "name: r\nscenes:\n  - {name: a, recorded: recorded, targets: [{object: o, "
+                   "obj_id: 1, reference_cloud: plate_mm.pcd}]}\n");
   const std::string assemble =
       "assemble --profiles " + (dir / "prof.csv") + " --hand-eye '0 0 80 1 0 0 0' ";
   const std::vector<std::pair<std::string, std::string>> cases = {
@@ -267,6 +273,9 @@ TEST(Cli, BadInputOneLineNonZeroNoOutput) {
            "/benchmarks/quick.yaml --methods magic --out " + (dir / "b"),
        dir / "b/results.jsonl"},
       {"bench merge " + (dir / "nothing") + " -o " + (dir / "m"), dir / "m/results.jsonl"},
+      {"bench export " + (dir / "missing.yaml") + " --bop -o " + (dir / "x"),
+       dir / "x/benchmark.yaml"},
+      {"bench " + (dir / "recorded.yaml") + " --out " + (dir / "b"), dir / "b/results.jsonl"},
       {"tune " + std::string(LASERFIT_SOURCE_DIR) +
            "/benchmarks/quick.yaml --train 0:3 --test 2:4 -o " + (dir / "t.yaml"),
        dir / "t.yaml"},

@@ -1,11 +1,13 @@
 // laserfit bench <benchmark.yaml> [--methods a,b] [--shard i/N] [--out DIR] [--jobs J] ...
 // laserfit bench generate <benchmark.yaml> [-o datasets/<name>]   (scans + ground truth + manifest)
 // laserfit bench merge DIR... -o OUT                                (shards -> one run)
+// laserfit bench export <benchmark.yaml> --bop -o DIR                (recorded scenes, BOP layout)
 #include <map>
 #include <thread>
 
 #include "command.hpp"
 #include "laserfit/bench/dataset.hpp"
+#include "laserfit/bench/recorded.hpp"
 #include "laserfit/bench/runner.hpp"
 #include "laserfit/core/cpu_budget.hpp"
 #include "laserfit/core/error.hpp"
@@ -21,6 +23,7 @@ struct Options {
   bool verify = false;
   std::vector<std::string> merge_dirs;
   std::string merge_out;
+  bool bop = false;
 };
 
 std::vector<std::string> split(const std::string& s) {
@@ -34,7 +37,47 @@ std::vector<std::string> split(const std::string& s) {
 // --jobs, or what this process was given (CPU affinity, cgroup quota, SLURM_CPUS_PER_TASK).
 CpuBudget jobs_or_default(int jobs) { return jobs > 0 ? CpuBudget{jobs, "--jobs"} : cpu_budget(); }
 
-int run(const Options& o, CLI::App* gen, CLI::App* merge) {
+// --list: check the file and say what a run would do.
+int run_list(const Options& o, const bench::Benchmark& b) {
+  const auto trials = bench::enumerate_trials(b);
+  const auto shard = bench::parse_shard(o.shard);
+  std::map<std::string, int> per_scene;
+  int mine = 0;
+  for (const auto& t : bench::select_trials(b, {}, split(o.scenes)))
+    if (shard.contains(t)) ++mine, ++per_scene[b.scenes[t.scene].name];
+  io::Json j = {{"benchmark", b.name},    {"seed", b.seed},
+                {"mode", b.mode},         {"trials_total", trials.size()},
+                {"shard", shard.text()},  {"trials", mine},
+                {"per_scene", per_scene}, {"methods", io::Json::array()}};
+  for (const auto m : b.methods) j["methods"].push_back(name_of(m));
+  std::ostringstream h;
+  h << b.name << " (seed " << b.seed << ", " << b.mode << "): " << trials.size()
+    << " trials in all, " << mine << " in shard " << shard.text() << " (";
+  for (const auto& [n, c] : per_scene)
+    h << n << " " << c << (n == per_scene.rbegin()->first ? "" : ", ");
+  h << "); methods";
+  for (const auto m : b.methods) h << " " << name_of(m);
+  h << "\n";
+  emit(o.json, j, h.str());
+  return 0;
+}
+
+int run_export(const Options& o) {
+  const auto b = bench::load_benchmark(o.gen_file);
+  const auto s = bench::export_bop(
+      b, o.gen_out, jobs_or_default(o.jobs).jobs,
+      o.repetitions.empty() ? std::vector<int>{} : parse_range(o.repetitions, "--repetitions"),
+      split(o.scenes));
+  emit(o.json,
+       {{"out", o.gen_out}, {"trials", s.trials}, {"objects", s.objects}, {"wall_s", s.wall_s}},
+       "wrote " + std::to_string(s.trials) + " scans of " + std::to_string(s.objects) +
+           " objects as recorded scenes (BOP layout) to " + o.gen_out +
+           "; run them with: " + "laserfit bench " + o.gen_out + "/benchmark.yaml\n");
+  return 0;
+}
+
+int run(const Options& o, CLI::App* gen, CLI::App* merge, CLI::App* exp) {
+  if (exp->parsed()) return run_export(o);
   if (merge->parsed()) {
     const auto s = bench::merge_runs(o.merge_dirs, o.merge_out);
     emit(o.json, {{"out", o.merge_out}, {"trials", s.trials}, {"records", s.records}},
@@ -69,29 +112,7 @@ int run(const Options& o, CLI::App* gen, CLI::App* merge) {
   if (o.file.empty())
     throw Error("give a benchmark file (or the generate / merge subcommand); see --help");
   const auto b = bench::load_benchmark(o.file);
-  if (o.list) {  // check the file and say what a run would do
-    const auto trials = bench::enumerate_trials(b);
-    const auto shard = bench::parse_shard(o.shard);
-    std::map<std::string, int> per_scene;
-    int mine = 0;
-    for (const auto& t : bench::select_trials(b, {}, split(o.scenes)))
-      if (shard.contains(t)) ++mine, ++per_scene[b.scenes[t.scene].name];
-    io::Json j = {{"benchmark", b.name},    {"seed", b.seed},
-                  {"mode", b.mode},         {"trials_total", trials.size()},
-                  {"shard", shard.text()},  {"trials", mine},
-                  {"per_scene", per_scene}, {"methods", io::Json::array()}};
-    for (const auto m : b.methods) j["methods"].push_back(name_of(m));
-    std::ostringstream h;
-    h << b.name << " (seed " << b.seed << ", " << b.mode << "): " << trials.size()
-      << " trials in all, " << mine << " in shard " << shard.text() << " (";
-    for (const auto& [n, c] : per_scene)
-      h << n << " " << c << (n == per_scene.rbegin()->first ? "" : ", ");
-    h << "); methods";
-    for (const auto m : b.methods) h << " " << name_of(m);
-    h << "\n";
-    emit(o.json, j, h.str());
-    return 0;
-  }
+  if (o.list) return run_list(o, b);
   bench::RunSettings s;
   for (const auto& m : split(o.methods)) s.methods.push_back(parse_enum<registration::Method>(m));
   s.shard = bench::parse_shard(o.shard);
@@ -172,7 +193,21 @@ Command add_bench(CLI::App& root) {
   merge->add_option("dirs", o->merge_dirs, "shard result directories")->required();
   merge->add_option("-o,--output,--out", o->merge_out, "merged result directory")->required();
   merge->add_flag("--json", o->json, "machine-readable summary on stdout");
-  return {app, [o, gen, merge] { return run(*o, gen, merge); }};
+  auto* exp = app->add_subcommand(
+      "export",
+      "Write the benchmark's simulated scans as recorded scenes in BOP's layout (scene_gt.json, "
+      "models/, scans/) with a benchmark.yaml that runs them: the form of a lab's own dataset");
+  exp->add_option("benchmark", o->gen_file, "benchmark definition (YAML)")->required();
+  exp->add_flag("--bop", o->bop,
+                "BOP layout (the one there is; required, so that a script "
+                "that says it keeps working when there are others)")
+      ->required();
+  exp->add_option("-o,--output", o->gen_out, "dataset directory")->required();
+  exp->add_option("--jobs", o->jobs, "trials in parallel (the bytes do not depend on it)");
+  exp->add_option("--repetitions", o->repetitions, "only repetitions a:b of every cell");
+  exp->add_option("--scenes", o->scenes, "comma-separated: only these scenes");
+  exp->add_flag("--json", o->json, "machine-readable summary on stdout");
+  return {app, [o, gen, merge, exp] { return run(*o, gen, merge, exp); }};
 }
 
 }  // namespace laserfit::cli

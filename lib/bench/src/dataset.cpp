@@ -39,7 +39,7 @@ DatasetSummary generate_dataset(const Benchmark& b, const std::string& dir, int 
   std::vector<io::Json> files(trials.size());
   parallel_for(trials.size(), jobs, [&](size_t i) {
     const Trial& t = trials[i];
-    const TrialInput in = simulate_trial(b, scenes.at(t.scene), t);
+    const TrialInput in = trial_input(b, scenes.at(t.scene), t);
     const std::string id = std::to_string(t.index);
     PointCloud scan = in.scan;
     scan.metadata["benchmark"] = b.name;

@@ -30,10 +30,10 @@ registration::RegistrationSettings method_settings(registration::Method method,
 
 namespace {
 
-Eigen::Vector3d viewpoint_of(const PointCloud& scan) {
-  if (!scan.sensor_origin)
-    throw Error("the scan has no sensor origin (laserfit.viewpoint; not a laserfit scan?)");
-  return *scan.sensor_origin;
+// Normals face the sensor where the scan says where it was (a recorded scan may not).
+void use_viewpoint(registration::RegistrationSettings& s, const PointCloud& scan) {
+  s.pre.use_viewpoint = bool(scan.sensor_origin);
+  if (scan.sensor_origin) s.pre.viewpoint = *scan.sensor_origin;
 }
 
 // The scan near the registered reference (label 0) and the reference at the estimate (label 1),
@@ -81,7 +81,7 @@ WeakNamed names_weak(const registration::RegistrationResult& r, const Target& tg
 // have) and a few side points, from which nothing can find it (the needle suite's thread, 18 of
 // 60 trials at <= 13 side points).
 long visible_points(const TrialInput& in, const PreparedScene& p, size_t k) {
-  if (in.scan.labels.empty()) return -1;
+  if (in.scan.labels.empty() || p.object[k] < 0) return -1;
   const bool thin = registration::thin_profile(p.reference[k], registration::ThinSettings{}).thin;
   double z0 = INFINITY, z1 = -INFINITY;  // the model's end planes (part frame)
   for (const auto& v : p.model[k])
@@ -148,7 +148,7 @@ AtTruth at_truth(const Benchmark& b, const PreparedScene& p, const Trial& t, con
   registration::RegistrationSettings s =
       method_settings(registration::Method::Ceres, tg, thresholds);
   s.q0 = Eigen::Quaterniond(in.truth[k].rotation());
-  s.pre.use_viewpoint = true, s.pre.viewpoint = viewpoint_of(in.scan), s.seed = t.seed;
+  use_viewpoint(s, in.scan), s.seed = t.seed;
   s.prior = in.truth[k], s.skip_coarse = true;
   // Whether the scan determines the pose, not whether a refinement found it: refined from the
   // truth there is no wrong local minimum for the residual check to catch.
@@ -170,43 +170,54 @@ AtTruth at_truth(const Benchmark& b, const PreparedScene& p, const Trial& t, con
   return a;
 }
 
+// Target k registered by method m as the trial's settings say; an unusable scan (an Error) is
+// a failed registration of the trial.
+registration::RegistrationResult register_target(const Benchmark& b, const PreparedScene& p,
+                                                 const Trial& t, const TrialInput& in, size_t k,
+                                                 registration::Method m, const TrialOptions& o) {
+  const Target& tg = b.scenes[t.scene].targets[k];
+  const bool paper = m == registration::Method::Paper;
+  auto rs = method_settings(m, tg, o.thresholds);
+  if (in.has_prior) {  // a recorded scan without scene_prior.json registers globally
+    rs.q0 = Eigen::Quaterniond(in.prior[k].rotation());
+    if (!paper) rs.prior = in.prior[k];
+  }
+  use_viewpoint(rs, in.scan);
+  rs.seed = t.seed;
+  // Two candidate parts: the points near the prior-placed reference, then the nearest cluster
+  // (the CLI default tries four).
+  rs.segment.max_clusters = 2;
+  registration::ViewSampler view;
+  if (tg.resample_view && !paper)
+    view = [&](const Pose& T_scan_ref) {  // bench scans are in the base frame
+      return scan::view_reference(p.reference_mesh[k], T_scan_ref, p.scene.settings,
+                                  tg.reference_points, b.seed);
+    };
+  try {
+    return registration::register_scan(in.scan, p.reference[k], rs, view);
+  } catch (const Error& e) {
+    registration::RegistrationResult res;
+    res.status = registration::Status::Failed;
+    res.reason = std::string("error: ") + e.what();
+    return res;
+  }
+}
+
 std::vector<io::Json> run_trial(const Benchmark& b, const PreparedScene& p, const Trial& t,
                                 const TrialInput& in, const TrialOptions& o) {
   std::vector<io::Json> out;
   const auto& sc = b.scenes[t.scene];
   io::Json cond = io::Json::object();
   for (const auto& name : axis_names()) cond[name] = axis(t.conditions, name);
-  const Eigen::Vector3d viewpoint = viewpoint_of(in.scan);
   for (size_t k = 0; k < sc.targets.size(); ++k) {
     const Target& tg = sc.targets[k];
     const long visible = visible_points(in, p, k);
     AtTruth truth_check;
     if (!tg.expect_failure) truth_check = at_truth(b, p, t, in, k, o.thresholds);
     for (const auto m : o.methods) {
-      const bool paper = m == registration::Method::Paper;
-      auto rs = method_settings(m, tg, o.thresholds);
-      rs.q0 = Eigen::Quaterniond(in.prior[k].rotation());
-      if (!paper) rs.prior = in.prior[k];
-      rs.pre.use_viewpoint = true, rs.pre.viewpoint = viewpoint;
-      rs.seed = t.seed;
       const MemoryProbe mem;
       const auto t0 = std::chrono::steady_clock::now();
-      registration::RegistrationResult res;
-      try {
-        // Two candidate parts: the points near the prior-placed reference, then the nearest
-        // cluster (the CLI default tries four).
-        registration::ViewSampler view;
-        if (tg.resample_view && !paper)
-          view = [&](const Pose& T_scan_ref) {  // bench scans are in the base frame
-            return scan::view_reference(p.reference_mesh[k], T_scan_ref, p.scene.settings,
-                                        tg.reference_points, b.seed);
-          };
-        rs.segment.max_clusters = 2;
-        res = registration::register_scan(in.scan, p.reference[k], rs, view);
-      } catch (const Error& e) {  // unusable scan for this target: a failure of the trial
-        res.status = registration::Status::Failed;
-        res.reason = std::string("error: ") + e.what();
-      }
+      const auto res = register_target(b, p, t, in, k, m, o);
       const double time_s =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       const Score grade = score(b, p, k, tg, in.truth[k], res);
@@ -252,6 +263,7 @@ std::vector<io::Json> run_trial(const Benchmark& b, const PreparedScene& p, cons
            {"at_truth", {{"status", truth_check.status}, {"reason", truth_check.reason}}},
            {"T_scan_ref", io::pose_to_json(res.T_scan_ref).at("matrix")},
            {"timing", timing}});
+      if (t.image >= 0) out.back()["image"] = t.image;  // a recorded scan's id
       if (!o.overlay_dir.empty() && t.cell == 0 && t.repetition == 0)
         write_overlay(o.overlay_dir + "/" + sc.name + "_" + tg.object + "_" + name_of(m) + ".pcd",
                       in.scan, p.reference[k], res.T_scan_ref);

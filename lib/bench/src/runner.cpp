@@ -123,6 +123,38 @@ void progress_line(bool tty, const std::string& name, size_t done, size_t total,
   }
 }
 
+// A generated dataset's files and their CRC-32s from its manifest (none without a dataset).
+std::map<std::string, std::string> dataset_crcs(const Benchmark& b, const std::string& dir) {
+  std::map<std::string, std::string> crc;
+  if (dir.empty()) return crc;
+  const std::string mf = dir + "/manifest.json";
+  const io::Json manifest = io::read_json(mf);
+  if (manifest.value("digest", "") != hex32(uint32_t(b.digest)))
+    throw Error(mf, "generated from a different benchmark file than " + b.file);
+  try {
+    for (const auto& f : manifest.at("files"))
+      crc[manifest_path(mf, f.at("path").get<std::string>())] = f.at("crc32");
+  } catch (const io::Json::exception& e) {
+    throw Error(mf, std::string("not a laserfit dataset manifest: ") + e.what());
+  }
+  return crc;
+}
+
+// results.jsonl, summary.csv and run.json from every trial's records, in trial order.
+void finish_run(const RunSettings& s, const io::Json& header,
+                const std::map<int, std::vector<io::Json>>& done, RunSummary& sum) {
+  std::vector<io::Json> records;
+  for (const auto& [idx, recs] : done)
+    for (const auto& r : recs) records.push_back(r);
+  sum.records = records.size();
+  io::Json run = header;
+  run["jobs"] = s.jobs, run["jobs_source"] = s.jobs_source.empty() ? "--jobs" : s.jobs_source;
+  run["dataset"] = s.dataset_dir, run["trials"] = sum.trials, run["resumed"] = sum.resumed;
+  run["records"] = records.size(), run["wall_s"] = sum.wall_s,
+  run["trials_per_s"] = sum.trials_per_s;
+  write_results(s.out_dir, records, run);
+}
+
 }  // namespace
 
 RunSummary run_benchmark(const Benchmark& b, const RunSettings& s) {
@@ -151,19 +183,7 @@ RunSummary run_benchmark(const Benchmark& b, const RunSettings& s) {
   std::map<int, PreparedScene> scenes;  // only the scenes this run needs
   for (const auto& t : pending)
     if (!scenes.count(t.scene)) scenes.emplace(t.scene, prepare_scene(b, t.scene));
-  std::map<std::string, std::string> crc;  // dataset file -> CRC-32 from its manifest
-  if (!s.dataset_dir.empty()) {
-    const std::string mf = s.dataset_dir + "/manifest.json";
-    const io::Json manifest = io::read_json(mf);
-    if (manifest.value("digest", "") != hex32(uint32_t(b.digest)))
-      throw Error(mf, "generated from a different benchmark file than " + b.file);
-    try {
-      for (const auto& f : manifest.at("files"))
-        crc[manifest_path(mf, f.at("path").get<std::string>())] = f.at("crc32");
-    } catch (const io::Json::exception& e) {
-      throw Error(mf, std::string("not a laserfit dataset manifest: ") + e.what());
-    }
-  }
+  const std::map<std::string, std::string> crc = dataset_crcs(b, s.dataset_dir);
   // A dataset file is used only if it still matches its manifest.
   auto checked = [&](const std::string& rel) {
     const std::string path = s.dataset_dir + "/" + rel;
@@ -191,7 +211,7 @@ RunSummary run_benchmark(const Benchmark& b, const RunSettings& s) {
     const Trial& t = pending[i];
     const PreparedScene& p = scenes.at(t.scene);
     const std::string id = std::to_string(t.index);
-    const TrialInput in = s.dataset_dir.empty() ? simulate_trial(b, p, t)
+    const TrialInput in = s.dataset_dir.empty() ? trial_input(b, p, t)
                                                 : read_trial(p, checked("scans/" + id + ".pcd"),
                                                              checked("gt/" + id + ".json"));
     auto recs = run_trial(b, p, t, in, opt);
@@ -206,19 +226,10 @@ RunSummary run_benchmark(const Benchmark& b, const RunSettings& s) {
   });
   jout.close();
 
-  std::vector<io::Json> records;
-  for (const auto& [idx, recs] : done)
-    for (const auto& r : recs) records.push_back(r);
   sum.trials = mine;
-  sum.records = records.size();
   sum.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   sum.trials_per_s = pending.empty() ? 0 : double(pending.size()) / sum.wall_s;
-  io::Json run = header;
-  run["jobs"] = s.jobs, run["jobs_source"] = s.jobs_source.empty() ? "--jobs" : s.jobs_source;
-  run["dataset"] = s.dataset_dir, run["trials"] = mine, run["resumed"] = sum.resumed;
-  run["records"] = records.size(), run["wall_s"] = sum.wall_s,
-  run["trials_per_s"] = sum.trials_per_s;
-  write_results(s.out_dir, records, run);
+  finish_run(s, header, done, sum);
   fs::remove(journal);
   return sum;
 }

@@ -2,9 +2,11 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "laserfit/bench/checksum.hpp"
+#include "laserfit/bench/recorded.hpp"
 #include "laserfit/core/error.hpp"
 #include "laserfit/io/yaml_reader.hpp"
 #include "laserfit/registration/registration.hpp"
@@ -52,7 +54,8 @@ Target read_target(const YamlReader& R, const YAML::Node& t, const std::string& 
                    const std::filesystem::path& dir) {
   R.only(t, where,
          {"object", "symmetry", "voxel_mm", "reference", "reference_mesh", "reference_points",
-          "expect", "weak_rotation", "weak_translation", "pivot", "resample_view"});
+          "expect", "weak_rotation", "weak_translation", "pivot", "resample_view", "obj_id",
+          "reference_cloud", "model", "label"});
   Target tg;
   R.need(t, "object", where);
   tg.object = R.str(t, "object", "", where);
@@ -64,11 +67,18 @@ Target read_target(const YamlReader& R, const YAML::Node& t, const std::string& 
   tg.voxel_mm = R.num(t, "voxel_mm", 0, where);
   if (tg.voxel_mm < 0 || tg.voxel_mm > 10)
     R.fail(where + ".voxel_mm", "must be in 0..10 mm (0 = auto)");
-  tg.reference = R.str(t, "reference", "view", where);
-  if (tg.reference != "view" && tg.reference != "full")
-    R.fail(where + ".reference", "must be view or full");
-  if (t["reference_mesh"])
-    tg.reference_mesh = (dir / R.str(t, "reference_mesh", "", where)).lexically_normal().string();
+  tg.reference = R.str(t, "reference", t["reference_cloud"] ? "cloud" : "view", where);
+  if (tg.reference != "view" && tg.reference != "full" && tg.reference != "cloud")
+    R.fail(where + ".reference", "must be view, full or cloud");
+  auto path = [&](const char* key) {
+    return t[key] ? (dir / R.str(t, key, "", where)).lexically_normal().string() : std::string();
+  };
+  tg.reference_mesh = path("reference_mesh");
+  tg.reference_cloud = path("reference_cloud"), tg.model = path("model");
+  if ((tg.reference == "cloud") != !tg.reference_cloud.empty())
+    R.fail(where + ".reference_cloud", "is the file of reference: cloud (and only of it)");
+  if (t["obj_id"]) tg.obj_id = int(R.integer(t, "obj_id", 0, where, 0, 1000000000));
+  if (t["label"]) tg.label = int(R.integer(t, "label", 0, where, 0, 1000000));
   tg.reference_points = size_t(R.integer(t, "reference_points", 60000, where, 100, 10000000));
   tg.resample_view = R.flag(t, "resample_view", false, where);
   if (tg.resample_view && tg.reference != "view")
@@ -89,6 +99,56 @@ Target read_target(const YamlReader& R, const YAML::Node& t, const std::string& 
   }
   if (tg.object.empty()) R.fail(where + ".object", "must name a scene object");
   return tg;
+}
+
+// What a simulated scene's target may not say, and a recorded scene's must.
+void check_target_source(const YamlReader& R, const SceneCase& sc, const Target& t,
+                         const std::string& where) {
+  if (!sc.recorded()) {
+    if (t.obj_id >= 0 || t.label >= 0 || !t.model.empty() || t.reference == "cloud")
+      R.fail(where, "obj_id, label, model and reference: cloud belong to recorded scenes");
+    return;
+  }
+  if (t.obj_id < 0) R.fail(where + ".obj_id", "a recorded scene's target needs its BOP obj_id");
+  if (t.reference == "view" || t.resample_view || t.pivot != "origin")
+    R.fail(where + ".reference",
+           "a recorded scene has no scanner model to view the part with: give reference_cloud, "
+           "or reference: full with reference_mesh (and no resample_view or pivot)");
+  if (t.reference == "full" && t.reference_mesh.empty())
+    R.fail(where + ".reference_mesh", "reference: full in a recorded scene samples this mesh");
+}
+
+SceneCase read_scene_case(const YamlReader& R, const YAML::Node& s, const std::string& where,
+                          const std::filesystem::path& dir) {
+  R.only(s, where, {"name", "scene", "recorded", "unit", "targets"});
+  SceneCase sc;
+  sc.name = R.str(s, "name", "", where);
+  if (sc.name.empty()) R.fail(where + ".name", "missing");
+  if (bool(s["scene"]) == bool(s["recorded"]))
+    R.fail(where, "give either scene (simulated) or recorded (a folder of scans)");
+  if (s["scene"]) sc.scene_path = (dir / R.str(s, "scene", "", where)).lexically_normal().string();
+  if (s["recorded"]) {
+    sc.recorded_dir = (dir / R.str(s, "recorded", "", where)).lexically_normal().string();
+    try {
+      sc.unit = parse_unit(R.str(s, "unit", "mm", where));
+      if (sc.unit == Unit::Auto) throw Error("the unit must be stated, not guessed");
+    } catch (const Error& e) {
+      R.fail(where + ".unit", e.what());
+    }
+    for (const auto& [id, objects] : read_scene_gt(sc.recorded_dir + "/scene_gt.json"))
+      sc.image_ids.push_back(id);
+  } else if (s["unit"]) {
+    R.fail(where + ".unit", "belongs to recorded scenes (a scan scene states its own units)");
+  }
+  const auto targets = R.need(s, "targets", where);
+  if (!targets.IsSequence() || targets.size() == 0)
+    R.fail(where + ".targets", "expected a non-empty list");
+  for (size_t k = 0; k < targets.size(); ++k) {
+    const std::string w = where + ".targets[" + std::to_string(k) + "]";
+    sc.targets.push_back(read_target(R, targets[k], w, dir));
+    check_target_source(R, sc, sc.targets.back(), w);
+  }
+  return sc;
 }
 
 }  // namespace
@@ -145,25 +205,27 @@ static Benchmark load_benchmark_unguarded(const std::string& path) {
   for (size_t i = 0; i < scenes.size(); ++i) {
     const std::string where = "scenes[" + std::to_string(i) + "]";
     const auto& s = scenes[i];
-    R.only(s, where, {"name", "scene", "targets"});
-    SceneCase sc;
-    sc.name = R.str(s, "name", "", where);
-    if (sc.name.empty()) R.fail(where + ".name", "missing");
-    sc.scene_path = (dir / R.str(s, "scene", "", where)).lexically_normal().string();
-    const auto targets = R.need(s, "targets", where);
-    if (!targets.IsSequence() || targets.size() == 0)
-      R.fail(where + ".targets", "expected a non-empty list");
-    for (size_t k = 0; k < targets.size(); ++k)
-      sc.targets.push_back(
-          read_target(R, targets[k], where + ".targets[" + std::to_string(k) + "]", dir));
+    SceneCase sc = read_scene_case(R, s, where, dir);
     for (const auto& other : b.scenes)
       if (other.name == sc.name) R.fail(where + ".name", "duplicate scene name '" + sc.name + "'");
     b.scenes.push_back(sc);
   }
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  b.digest = crc32(bytes.str());
+  bool simulated = false;
+  for (const auto& sc : b.scenes) simulated |= !sc.recorded();
+  if (!simulated && !b.axes.empty())
+    R.fail("conditions", "apply to simulated scenes; every scene here is recorded");
+  // The run's identity: this file, and the ground truth of its recorded scenes (a corrected
+  // scene_gt.json is another run; the scans are not hashed, they can be gigabytes).
+  auto bytes = [](const std::string& file) {
+    std::ifstream in(file, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  std::string all = bytes(path);
+  for (const auto& sc : b.scenes)
+    if (sc.recorded())
+      all +=
+          bytes(sc.recorded_dir + "/scene_gt.json") + bytes(sc.recorded_dir + "/scene_prior.json");
+  b.digest = crc32(all);
   return b;
 }
 

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <sstream>
 
+#include "laserfit/bench/recorded.hpp"
 #include "laserfit/bench/trial.hpp"
 #include "laserfit/cad/import.hpp"
 #include "laserfit/core/error.hpp"
@@ -11,6 +12,27 @@
 #include "laserfit/scan/reference.hpp"
 
 namespace laserfit::bench {
+
+namespace {
+
+uint64_t trial_seed(uint64_t benchmark_seed, uint64_t n) {
+  return mix_seed(mix_seed(benchmark_seed) ^ (0x5eed0000ull + n));
+}
+
+// One trial per recorded scan. Its seed derives from the image id, so a simulated benchmark
+// exported as recorded scenes (image id = trial index) registers with the same seeds.
+void append_recorded(const Benchmark& b, int scene, std::vector<Trial>& trials) {
+  const auto& ids = b.scenes[scene].image_ids;
+  for (size_t r = 0; r < ids.size(); ++r) {
+    Trial t;
+    t.index = int(trials.size()), t.scene = scene, t.repetition = int(r), t.image = ids[r];
+    t.seed = trial_seed(b.seed, uint64_t(ids[r]));
+    t.conditions.rotation_deg = t.conditions.translation_mm = -1;  // measured, not perturbed
+    trials.push_back(t);
+  }
+}
+
+}  // namespace
 
 std::vector<Trial> enumerate_trials(const Benchmark& b) {
   // Grid cells: the cartesian product of the axes' values, in axis_names() order.
@@ -29,12 +51,16 @@ std::vector<Trial> enumerate_trials(const Benchmark& b) {
       cells = next;
     }
   std::vector<Trial> trials;
-  for (size_t s = 0; s < b.scenes.size(); ++s)
+  for (size_t s = 0; s < b.scenes.size(); ++s) {
+    if (b.scenes[s].recorded()) {
+      append_recorded(b, int(s), trials);
+      continue;
+    }
     for (size_t c = 0; c < cells.size(); ++c)
       for (int r = 0; r < b.trials; ++r) {
         Trial t;
         t.index = int(trials.size()), t.scene = int(s), t.cell = int(c), t.repetition = r;
-        t.seed = mix_seed(mix_seed(b.seed) ^ (0x5eed0000ull + uint64_t(t.index)));
+        t.seed = trial_seed(b.seed, uint64_t(t.index));
         t.conditions = cells[c];
         if (b.mode == "random") {
           std::mt19937_64 g = block_rng(b.seed, 2000 + s, uint64_t(r));
@@ -44,6 +70,7 @@ std::vector<Trial> enumerate_trials(const Benchmark& b) {
         }
         trials.push_back(t);
       }
+  }
   return trials;
 }
 
@@ -95,6 +122,7 @@ Pose perturbed(const Pose& nominal, double deg, double mm, std::mt19937_64& g,
 
 PreparedScene prepare_scene(const Benchmark& b, int scene) {
   const auto& sc = b.scenes[scene];
+  if (sc.recorded()) return prepare_recorded(sc, b.seed);
   PreparedScene p;
   p.scene = scan::load_scene(sc.scene_path);
   for (const auto& t : sc.targets) {
@@ -172,6 +200,11 @@ TrialInput simulate_trial(const Benchmark& b, const PreparedScene& p, const Tria
             : perturbed(in.truth.back(), c.prior_rotation_deg, c.prior_translation_mm, g));
   }
   return in;
+}
+
+TrialInput trial_input(const Benchmark& b, const PreparedScene& p, const Trial& t) {
+  const SceneCase& sc = b.scenes[t.scene];
+  return sc.recorded() ? recorded_trial(sc, p, t) : simulate_trial(b, p, t);
 }
 
 io::Json input_json(const Benchmark& b, const PreparedScene& p, const Trial& t,

@@ -77,7 +77,7 @@ Split make_split(const Benchmark& b, const std::map<int, PreparedScene>& scenes,
       if (t.repetition == r) s.trials.push_back(t);
   s.inputs.resize(s.trials.size());
   parallel_for(s.trials.size(), jobs, [&](size_t i) {
-    s.inputs[i] = simulate_trial(b, scenes.at(s.trials[i].scene), s.trials[i]);
+    s.inputs[i] = trial_input(b, scenes.at(s.trials[i].scene), s.trials[i]);
   });
   return s;
 }

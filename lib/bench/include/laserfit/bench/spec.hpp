@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "laserfit/core/units.hpp"
 #include "laserfit/metrics/pose_error.hpp"
 #include "laserfit/registration/settings.hpp"
 
@@ -17,9 +18,10 @@ namespace laserfit::bench {
 struct Target {
   std::string object;  // the scene object whose pose is estimated
   metrics::Symmetry symmetry;
-  double voxel_mm = 0;             // registration voxel; 0 = auto
-  std::string reference = "view";  // view: what the nominal sweep sees | full: whole surface
-  std::string reference_mesh;      // another CAD file as the reference (a wrong-object trial)
+  double voxel_mm = 0;  // registration voxel; 0 = auto
+  // view: what the nominal sweep sees | full: whole surface | cloud: a file (recorded scenes)
+  std::string reference = "view";
+  std::string reference_mesh;  // another CAD file as the reference (a wrong-object trial)
   size_t reference_points = 60000;
   // view only: after a first pass, register again against the view sampled at the pose found
   // (registration::register_in_view; every method but `paper`, which is Algorithm 1 as published).
@@ -36,10 +38,25 @@ struct Target {
   // (and has no more unobservable directions than declared, a continuous symmetry counting one)
   // is a correct report: the rest of the pose is then scored without them.
   std::optional<Eigen::Vector3d> weak_rotation, weak_translation;
+  // Recorded scenes only (docs/benchmark.md, "Recorded scenes"): the object's id in the scene's
+  // scene_gt.json (BOP obj_id), its reference as a cloud file (reference: cloud) unless sampled
+  // from reference_mesh (reference: full), the mesh MSSD is measured on (empty: the reference's
+  // points) and the scan label of its points (-1: the scans carry none).
+  int obj_id = -1;
+  std::string reference_cloud, model;
+  int label = -1;
 };
 
 struct SceneCase {
-  std::string name, scene_path;
+  std::string name;
+  std::string scene_path;  // simulated: the scan scene (YAML) every trial scans
+  // Recorded: a folder of a lab's own scans, scans/<image id>.pcd|.ply, with scene_gt.json
+  // (BOP layout: T_scan_object per image and obj_id, mm) and optionally scene_prior.json (the
+  // same layout: the pose the cell believed; without it every method registers with no prior).
+  std::string recorded_dir;
+  Unit unit = Unit::Millimetre;  // recorded: of scans, references and models stating none
+  std::vector<int> image_ids;    // recorded: scene_gt.json's images, ascending; one trial each
+  bool recorded() const { return !recorded_dir.empty(); }
   std::vector<Target> targets;
 };
 
@@ -63,7 +80,7 @@ double axis(const Conditions& c, const std::string& name);
 struct Benchmark {
   std::string name, file;
   uint64_t seed = 1;
-  int trials = 10;            // per grid cell (grid) or in total per scene (random)
+  int trials = 10;  // per grid cell (grid) or in total per scene (random); recorded: one per scan
   std::string mode = "grid";  // grid: every combination of the axes' values; random: draws
   std::map<std::string, std::vector<double>> axes;  // grid: values; random: [min, max]
   double t_tol_mm = 0.05, r_tol_deg = 0.5;          // success tolerance

@@ -2,6 +2,7 @@
 // Trials of a benchmark: a fixed, seed-determined list (scene x condition cell x repetition), the
 // scan each one scans (simulated in memory or read back from a generated dataset — the same
 // bytes), and the records its registrations produce.
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,6 +23,7 @@ struct Trial {
   int repetition = 0;  // 0 .. trials-1 within its cell
   Conditions conditions;
   uint64_t seed = 0;  // the trial's own seed: perturbation, scan noise, registration
+  int image = -1;     // recorded scenes: the scan's image id (its seed derives from it)
 };
 std::vector<Trial> enumerate_trials(const Benchmark& b);
 // The trials of some repetitions and some scenes (by name; empty: all), in enumerate order.
@@ -45,6 +47,9 @@ struct PreparedScene {
   std::vector<std::vector<Eigen::Vector3f>> model;  // per target: mesh vertices (MSSD)
   std::vector<Eigen::Vector3d>
       pivot;  // per target: what the true pose turns about (object frame, mm)
+  // Recorded scenes: image id -> obj_id -> T_scan_object, measured and believed (the prior).
+  std::map<int, std::map<int, Pose>> truth, prior;
+  bool has_prior = false;
 };
 PreparedScene prepare_scene(const Benchmark& b, int scene);
 
@@ -52,10 +57,13 @@ PreparedScene prepare_scene(const Benchmark& b, int scene);
 struct TrialInput {
   PointCloud scan;                 // organized, base frame, labels = scene object
   std::vector<Pose> truth, prior;  // per target: T_scan_object (ground truth) and the prior
+  bool has_prior = true;           // false: a recorded scan without scene_prior.json
   uint64_t scan_seed = 0;
   size_t scan_points = 0;  // valid points
 };
 TrialInput simulate_trial(const Benchmark& b, const PreparedScene& p, const Trial& t);
+// simulate_trial, or a recorded scene's scan read from its folder.
+TrialInput trial_input(const Benchmark& b, const PreparedScene& p, const Trial& t);
 // The ground-truth file of a dataset trial: conditions, seeds, and per target its scan label,
 // reference file, symmetry, true and prior poses.
 io::Json input_json(const Benchmark& b, const PreparedScene& p, const Trial& t,
