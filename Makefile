@@ -88,7 +88,7 @@ test-asan: build-asan
 FUZZ_SECONDS ?= 60
 # FUZZ_SEED 0: libFuzzer picks one; CI fixes it so that a run is repeatable.
 FUZZ_SEED ?= 0
-FUZZ_TARGETS := cloud mesh raw_mesh scene cell benchmark thresholds manifest strings profiles
+FUZZ_TARGETS := cloud mesh raw_mesh scene cell benchmark thresholds manifest strings profiles scene_gt
 # Memory: the fuzzer's RSS limit holds; its per-allocation limit is off because the isolated
 # parsers' children (lib/core/isolate) run under their own limits and would otherwise report a
 # parser's huge allocation, which the parent answers with an error line, as a finding.

@@ -41,7 +41,8 @@ inline std::string input_file(const std::string& name, const uint8_t* data, size
 
 // A copy of the repository's layout around the configuration files, so that a scene's meshes
 // (../../cad/...), a benchmark's scenes (../datasets/scenes/...) and a cell's scene resolve as
-// they do in the repository: cad/ and tests/ link to the sources, datasets/scenes holds copies.
+// they do in the repository: cad/ and tests/ link to the sources, datasets/scenes holds copies,
+// datasets/recorded a recorded scene's scene_gt.json.
 // Returns work_dir(); inputs go to datasets/scenes/, benchmarks/ or cells/ under it.
 inline const std::filesystem::path& repository_fixture() {
   namespace fs = std::filesystem;
@@ -51,6 +52,9 @@ inline const std::filesystem::path& repository_fixture() {
     for (const char* d : {"datasets/scenes", "benchmarks", "cells"}) fs::create_directories(w / d);
     for (const auto& e : fs::directory_iterator(src / "datasets/scenes"))
       fs::copy_file(e.path(), w / "datasets/scenes" / e.path().filename());
+    fs::create_directories(w / "datasets/recorded");  // a recorded scene's ground truth
+    std::ofstream(w / "datasets/recorded/scene_gt.json")
+        << R"({"0": [{"obj_id": 1, "cam_R_m2c": [1,0,0,0,1,0,0,0,1], "cam_t_m2c": [0,0,9]}]})";
     return true;
   }();
   (void)made;
