@@ -7,7 +7,10 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <boost/iostreams/filter/lzma.hpp>
+#include <boost/iostreams/filtering_stream.hpp>
 #include <filesystem>
+#include <fstream>
 
 #include "laserfit/bench/dataset.hpp"
 #include "laserfit/bench/runner.hpp"
@@ -156,4 +159,36 @@ TEST(Manifest, AFilePathMustStayInsideTheDataset) {
   EXPECT_EQ(bench::manifest_path("m.json", "scans/0.pcd"), "scans/0.pcd");
   for (const char* bad : {"../x.pcd", "/etc/passwd", "scans/../../x", ""})
     EXPECT_THROW(bench::manifest_path("m.json", bad), Error) << bad;
+}
+
+// Campaign records are kept as .jsonl.xz in reports/: read as they are, and a damaged archive is
+// one error naming it, never a silently shorter list.
+TEST(Results, XzCompressedRecordsReadAsThePlainFile) {
+  test::TempDir dir;
+  std::string text;
+  for (int t = 0; t < 500; ++t) text += record(t).dump() + "\n";
+  test::write_text(dir / "r.jsonl", text);
+  {
+    std::ofstream file(dir / "r.jsonl.xz", std::ios::binary);
+    boost::iostreams::filtering_ostream out;
+    out.push(boost::iostreams::lzma_compressor());
+    out.push(file);
+    out << text;
+  }
+  const auto plain = bench::read_results(dir / "r.jsonl");
+  EXPECT_EQ(bench::read_results(dir / "r.jsonl.xz"), plain);
+  EXPECT_EQ(plain.size(), 500u);
+  const std::string xz = test::read_bytes(dir / "r.jsonl.xz");
+  std::string flipped = xz;
+  flipped[xz.size() / 2] ^= 0x40;
+  test::write_text(dir / "flipped.jsonl.xz", flipped);
+  test::write_text(dir / "cut.jsonl.xz", xz.substr(0, xz.size() / 2));
+  for (const char* f : {"flipped.jsonl.xz", "cut.jsonl.xz"}) {
+    try {
+      const auto r = bench::read_results(dir / f);
+      ADD_FAILURE() << f << " read as " << r.size() << " records";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
+    }
+  }
 }

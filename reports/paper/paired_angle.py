@@ -8,11 +8,16 @@ difference is the strategy's (or the code's). Per range (default: every trial bo
 and max angle of each, and in how many trials B's is the smaller. Inserted or not, every trial
 with an angle counts.
 """
-import json, statistics, sys
+import json, lzma, statistics, sys
+
+
+def records(path):
+    """A .jsonl file, or a .jsonl.xz as the campaigns are kept in reports/."""
+    return lzma.open(path, 'rt') if path.endswith('.xz') else open(path)
 
 
 def load(path):
-    return {r['trial']: r['angle_deg'] for r in map(json.loads, open(path)) if r.get('angle_deg') is not None}
+    return {r['trial']: r['angle_deg'] for r in map(json.loads, records(path)) if r.get('angle_deg') is not None}
 
 
 a, b = load(sys.argv[1]), load(sys.argv[2])

@@ -6,12 +6,17 @@ usage: compare.py BEFORE.jsonl AFTER.jsonl [object ...]
 Per target: success and determinable counts in both over the trials both hold, then every
 (trial, object, method) whose success, status or determinable differs, with the errors.
 """
-import json, sys
+import json, lzma, sys
+
+
+def records(path):
+    """A .jsonl file, or a .jsonl.xz as the campaigns are kept in reports/."""
+    return lzma.open(path, 'rt') if path.endswith('.xz') else open(path)
 
 
 def load(path, objs):
     out = {}
-    for line in open(path):
+    for line in records(path):
         r = json.loads(line)
         if not objs or r['object'] in objs:
             out[(r['trial'], r['object'], r['method'])] = r

@@ -7,13 +7,20 @@ Each RUN_DIR/results.jsonl contributes its records, or with ':objects' only thos
 take the targets a later benchmark file left unchanged from an earlier run). A (trial, object,
 method) given twice is an error, as is a record of another benchmark.
 """
-import json, os, sys
+import json, lzma, os, sys
+
+
+def records(path):
+    """A .jsonl file, or a .jsonl.xz as the campaigns are kept in reports/."""
+    return lzma.open(path, 'rt') if path.endswith('.xz') else open(path)
+
 
 out, seen, rows = sys.argv[1], set(), []
 for arg in sys.argv[2:]:
     d, _, objs = arg.partition(':')
     keep = set(objs.split(',')) if objs else None
-    for line in open(os.path.join(d, 'results.jsonl')):
+    plain = os.path.join(d, 'results.jsonl')
+    for line in records(plain if os.path.exists(plain) else plain + '.xz'):
         r = json.loads(line)
         if keep is not None and r['object'] not in keep:
             continue

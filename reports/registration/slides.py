@@ -9,20 +9,25 @@ reference's origin between the two poses (um: median, min, max) and the smallest
 that lies along the named axis. Records naming a translation ("along [...]") are counted apart.
 Needs python3-numpy (Debian), hence /usr/bin/python3.
 """
-import json, re, sys
+import json, lzma, re, sys
 from collections import defaultdict
 
 import numpy as np
 
 
+def records(path):
+    """A .jsonl file, or a .jsonl.xz as the campaigns are kept in reports/."""
+    return lzma.open(path, 'rt') if path.endswith('.xz') else open(path)
+
+
 def main(ref_path, other_path, obj="needle"):
     right = {}
-    for line in open(ref_path):
+    for line in records(ref_path):
         r = json.loads(line)
         if r["object"] == obj and r["success"]:
             right[r["trial"]] = np.array(r["T_scan_ref"])
     shifts, along = defaultdict(list), defaultdict(int)
-    for line in open(other_path):
+    for line in records(other_path):
         r = json.loads(line)
         if r["object"] != obj or r["success"] or r["trial"] not in right or "T_scan_ref" not in r:
             continue

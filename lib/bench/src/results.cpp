@@ -1,4 +1,6 @@
 // results.jsonl / summary.csv / run.json, and merging the shards of one benchmark.
+#include <boost/iostreams/filter/lzma.hpp>
+#include <boost/iostreams/filtering_stream.hpp>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -11,12 +13,33 @@
 
 namespace laserfit::bench {
 
+namespace {
+
+// Campaign records are kept xz-compressed in reports/ (docs: reports/README.md), and read as
+// they are: a .xz file is decompressed on the fly.
+std::vector<std::string> record_lines(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw Error(path, "cannot read the file");
+  boost::iostreams::filtering_istream in;
+  const bool xz = path.size() > 3 && path.compare(path.size() - 3, 3, ".xz") == 0;
+  if (xz) in.push(boost::iostreams::lzma_decompressor());
+  in.push(file);
+  in.exceptions(std::ios::badbit);  // a decoding error throws instead of ending the file early
+  std::vector<std::string> lines;
+  try {
+    for (std::string line; std::getline(in, line);) lines.push_back(std::move(line));
+  } catch (const std::exception& e) {  // boost's lzma_error: a corrupt or cut .xz file
+    throw Error(path, std::string("not a readable .xz file (") + e.what() + ")");
+  }
+  return lines;
+}
+
+}  // namespace
+
 std::vector<io::Json> read_results(const std::string& path, bool allow_empty) {
-  std::ifstream in(path);
-  if (!in) throw Error(path, "cannot read the file");
   std::vector<io::Json> out;
   size_t n = 0;
-  for (std::string line; std::getline(in, line);) {
+  for (const std::string& line : record_lines(path)) {
     ++n;
     if (line.empty()) continue;
     try {
