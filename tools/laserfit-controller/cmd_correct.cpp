@@ -30,10 +30,19 @@ int run(const Options& o) {
   flange.translation() *= unit_to_mm(unit), target_prior.translation() *= unit_to_mm(unit);
   const PointCloud scan = io::read_cloud(o.scan, unit);
   std::vector<std::string> log;
+  const Pose part_prior = c.part_believed_from_flange(flange);
   const Measurement m =
       measure(scan, io::read_cloud(o.target_ref, unit), io::read_cloud(o.part_ref, unit),
-              target_prior, c.part_believed_from_flange(flange), cs, s, o.seed, log);
+              target_prior, part_prior, cs, s, o.seed, log);
   if (!m.ok) throw Error(o.scan, "no correction: " + m.reason);
+  // The trajectory starts at --ee-pose: a pose in another unit or frame would start it where the
+  // arm is not, though the scan still finds the part (the nearest cluster).
+  const double off_mm = (m.T_scan_part.translation() - part_prior.translation()).norm();
+  if (off_mm > s.max_part_offset_mm)
+    throw Error(o.scan, "no correction: the part is " + std::to_string(int(off_mm)) +
+                            " mm from where --ee-pose puts it (more than " +
+                            std::to_string(int(s.max_part_offset_mm)) +
+                            " mm): another frame, unit or arm?");
   Pose approach = cs.T_target_part_insert;
   approach.translation() = cs.approach_mm;
   const Correction corr = compute_correction(m, approach, o.orientation);

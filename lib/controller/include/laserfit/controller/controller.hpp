@@ -41,6 +41,11 @@ struct ControllerSettings {
   double prior_radius_mm = 1.0;  // scan points this near a prior-placed reference are a
                                  // candidate part (else the clusters nearest the prior)
   std::string dump_dir;          // non-empty: write every scan and the references here
+  // A flange pose handed in from outside (`correct --ee-pose`) is trusted only if the scan finds
+  // the part within this of where the pose puts it. The simulated arms' kinematic errors leave
+  // the part up to ~50 mm from its believed pose (46 mm in test_correct), so only a gross
+  // mistake is caught: a pose in metres read as mm, another frame, another arm's pose.
+  double max_part_offset_mm = 100;
 };
 
 // Defaults for a cell: its correction limits (its approach error budget) go to the planner and
