@@ -140,8 +140,8 @@ Score score(const Benchmark& b, const PreparedScene& p, size_t k, const Target& 
 // The view reference is sampled afresh from the part at its true pose. The benchmark's reference
 // shows the nominally placed part: on a part turned by up to 20 deg it has walls the scan lacks
 // and lacks walls the scan has, and refined against it from the truth, that mismatch held a
-// socket's slide along its own axis which the scan itself does not hold (repetitions 47, 59, 86,
-// 126, 152 and 169 of registration.yaml at e913f8a).
+// socket's slide along its own axis which the scan itself does not hold (6 of registration.yaml's
+// 200 receptacle trials).
 AtTruth at_truth(const Benchmark& b, const PreparedScene& p, const Trial& t, const TrialInput& in,
                  size_t k, const registration::Thresholds* thresholds) {
   const Target& tg = b.scenes[t.scene].targets[k];

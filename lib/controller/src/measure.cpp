@@ -110,7 +110,7 @@ Measurement measure(const PointCloud& scan, const PointCloud& target_ref,
   // target only the error between teaching and now is left.
   // Better still, the last measurement moved by the commands since (their error is ~0.1 of their
   // length, the model's is mm): a thread that returned nothing from a few profiles is seen in
-  // pieces, and the piece nearest a prior mm off need not hold the tip (trial 441: 3 mm short).
+  // pieces, and the piece nearest a prior mm off need not hold the tip (once 3 mm short).
   const Pose relative_prior =
       m.T_scan_target * (tracked_part ? *tracked_part : target_prior.inverse() * part_prior);
   m.part = register_one(scan, part_ref, relative_prior, pname, cs.part_weak_rotation,

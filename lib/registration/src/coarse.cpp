@@ -40,8 +40,8 @@ bool coarse_align(const PclCloud::Ptr& ref, const Features::Ptr& ref_f, const Pc
   ransac.setInlierFraction(float(s.inlier_fraction));
   // PCL draws its samples with std::rand(), one sequence for the whole process: seeded here and
   // held under a lock, or two registrations at once (`laserfit bench --jobs 2`) interleave their
-  // draws and a trial's pose depends on its neighbour's timing (the paper method's trial 78 gave
-  // three different needle poses in three runs).
+  // draws and a trial's pose depends on its neighbour's timing (one needle trial of the paper
+  // method gave three different poses in three runs).
   static std::mutex rand_mutex;
   const std::lock_guard<std::mutex> lock(rand_mutex);
   std::srand(static_cast<unsigned>(seed % 2147483647u));

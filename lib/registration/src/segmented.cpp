@@ -36,7 +36,7 @@ PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& 
       queries.push_back(scan.points[i]), at.push_back(i);
   // Radius-bounded and batched: most scan points are far from the part, and an unbounded nearest
   // search from them descends much of the tree (the o2ac panel's 1.5 M points against a crop
-  // swept 20 mm: an 18-minute registration, taskboard trial 40, then 10 s); one PCL query per
+  // swept 20 mm: an 18-minute registration, then 10 s); one PCL query per
   // point opened an OpenMP region in FLANN per point (0.7 s of a 1 M-point scan's 1.4 s).
   const std::vector<char> near = within_radius(placed, queries, radius);
   const bool labels = !scan.labels.empty();

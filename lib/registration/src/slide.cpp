@@ -2,9 +2,9 @@
 // scan side only (trust.cpp), and a hole is an absence of scan points. With the reference slid so
 // far that its eye lies where the scan has no data (beyond the sensor's last column, or in a
 // thread's shadow), the scan's eye faces plain shaft and nothing penalises it: the fit is flat
-// along the shaft and the refinement stops anywhere on the plateau (controller trial 328, 1.3 mm
-// off). A refinement started near the true slide falls into the eye's edges and is pinned; so
-// the plateau is searched by restarts, not by a smarter local step.
+// along the shaft and the refinement stops anywhere on the plateau (in a controller campaign,
+// 1.3 mm off). A refinement started near the true slide falls into the eye's edges and is pinned;
+// so the plateau is searched by restarts, not by a smarter local step.
 #include "slide.hpp"
 
 #include <tbb/parallel_for.h>

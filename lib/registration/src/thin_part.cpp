@@ -55,7 +55,7 @@ void principal_axis(const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector
 // not from the raw points, so that it does not depend on how densely the part was seen: with the
 // raw points and a cap on their number, the nearest points of a thread seen broadside at a high
 // density spanned ~0.13 x 0.36 mm of its band, too wide for a line, and the thread was not found
-// (the needle suite's trials 3, 8, 23, 28, 43 and 48).
+// (in 6 of the needle suite's trials).
 std::vector<int> linear_points(const PclCloud& cloud, const ThinSettings& t) {
   const double v = t.linear_radius_mm / 5;
   std::unordered_map<std::int64_t, int> voxel_index;
@@ -190,7 +190,7 @@ std::string find_tip(const std::vector<Eigen::Vector3d>& pts,
   // The end of the band as the line test saw it is short of the seen end: there the neighbourhood
   // holds the band on one side only, half as long for its width, and a band seen broadside is
   // too wide for a line over its last ~0.1 mm (the tip measured 90-180 um short in the needle
-  // suite's trials 3, 23 and 43). So the scan's points on the fitted cylinder's surface just
+  // suite). So the scan's points on the fitted cylinder's surface just
   // beyond it are the part's too.
   const double band = std::max(3 * f.rmse_mm, 0.005), last = s_ax.back();
   for (const auto& q : near) {
@@ -204,7 +204,7 @@ std::string find_tip(const std::vector<Eigen::Vector3d>& pts,
   // The seen end: the last point not cut off from the rest by a gap of more than two steps.
   // Stray points beyond the end (mixed pixels or outliers of the surface under the tip that
   // happen to lie on the cylinder's band) are cut off so; taken as the end, they put the tip
-  // 0.15-0.36 mm too far (the controller campaign's trial 584).
+  // 0.15-0.36 mm too far (seen in the controller campaign).
   size_t end = s_ax.size() - 1;
   while (step > 0 && end >= 1 && s_ax[end] - s_ax[end - 1] > 2 * step) --end;
   c.data_tip = f.point + a * s_ax[end];

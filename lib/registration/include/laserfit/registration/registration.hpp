@@ -113,10 +113,10 @@ RegistrationResult register_segmented(const PointCloud& scan, const PointCloud& 
 // A view reference depends on the pose it is seen at. Sampled at the prior, it shows walls that a
 // part turned away from the prior no longer shows and lacks those it turned toward; a socket
 // turned by 15-20 deg fitted its scan at 8-24 um RMS instead of 2.5 um, and RANSAC, matching
-// FPFH of the other view, never confirmed the right pose (registration.yaml's receptacle
-// repetitions 70 and 144). register_segmented with `ref`, then, when that found a pose, once more
-// with `view` sampled at it (that pose as the prior); the second answer is kept unless it failed
-// where the first did not. Thin parts are detected, not registered: one pass.
+// FPFH of the other view, never confirmed the right pose (registration.yaml's receptacle).
+// register_segmented with `ref`, then, when that found a pose, once more with `view` sampled at it
+// (that pose as the prior); the second answer is kept unless it failed where the first did not.
+// Thin parts are detected, not registered: one pass.
 RegistrationResult register_in_view(const PointCloud& scan, const PointCloud& ref,
                                     const ViewSampler& view, const RegistrationSettings& settings,
                                     int max_clusters = 4);
