@@ -6,13 +6,17 @@ From laserfit's own scan (organized binary PCD, mm, sensor origin in its header)
                  standard VIEWPOINT field, the unit unstated (read as the default mm)
   flat.pcd       laserfit's PCD of the same scan unorganized (its measured points only)
   open3d_m.ply   Open3D's write_point_cloud of those points: double x y z, metres, no unit stated
-then runs `laserfit register` on each (Open3D's with --unit m and --viewpoint in metres, as a lab
-would give the sensor position it knows) and prints how far each pose lies from the pose of the
-PCD it stands for (translation in um, rotation in deg, per reference). Open3D has no organized
-clouds, so its PLY is compared with flat.pcd; how far flat.pcd lies from the organized scan (the
-mixed-pixel filter needs the grid) is printed too. Needs python3-open3d and numpy.
+then runs `laserfit register` on each (Open3D's with --unit m and --viewpoint and priors in
+metres, as a lab would give them) and prints how far each pose lies from the pose of the PCD it
+stands for (translation in um, rotation in deg, per reference). Open3D has no organized clouds,
+so its PLY is compared with flat.pcd; how far flat.pcd lies from the organized scan (the
+mixed-pixel filter needs the grid) is printed too. --assembled adds `laserfit assemble`'s cloud
+of the same sweep (from `scan --raw --flange-poses`), compared with the scan. --prior (once per
+reference, mm) and --q0 are handed to every registration: the arm's belief, as in a cell.
+Needs python3-open3d and numpy.
 
   python3 benchmarks/io/conventions.py build/bin/laserfit scan.pcd ref.pcd [ref.pcd ...]
+      [--assembled scan_assembled.pcd] [--prior "x y z qw qx qy qz" ...] [--q0 "qw qx qy qz"]
 """
 import argparse
 import json
@@ -55,7 +59,14 @@ def main():
     ap.add_argument("laserfit")
     ap.add_argument("scan")
     ap.add_argument("refs", nargs="+")
+    ap.add_argument("--assembled", help="laserfit assemble's cloud of the same sweep")
+    ap.add_argument("--prior", action="append", default=[], help="x y z qw qx qy qz (mm), per ref")
+    ap.add_argument("--q0", help="qw qx qy qz")
     a = ap.parse_args()
+    belief = [x for p in a.prior for x in ("--prior", p)] + (["--q0", a.q0] if a.q0 else [])
+    belief_m = [x for p in a.prior
+                for x in ("--prior", " ".join([str(float(v) * 1e-3) for v in p.split()[:3]] +
+                                             p.split()[3:]))] + (["--q0", a.q0] if a.q0 else [])
     header, raw, end, xyz = read_laserfit_pcd(a.scan)
     vp = next(l for l in header if l.startswith("# laserfit.viewpoint")).split()[2:5]
     with tempfile.TemporaryDirectory() as tmp:
@@ -74,16 +85,19 @@ def main():
                  "HEIGHT 1", f"POINTS {n}", "DATA binary"]
         body = np.ascontiguousarray(xyz[finite].astype(np.float32)).tobytes()
         pathlib.Path(flat_pcd).write_bytes(("\n".join(flat) + "\n").encode() + body)
-        own = register(a.laserfit, a.scan, a.refs, [])
-        own_flat = register(a.laserfit, flat_pcd, a.refs, [])
+        own = register(a.laserfit, a.scan, a.refs, belief)
+        own_flat = register(a.laserfit, flat_pcd, a.refs, belief)
         pairs = [
-            ("viewpoint.pcd", register(a.laserfit, vp_pcd, a.refs, []), "own", own),
+            ("viewpoint.pcd", register(a.laserfit, vp_pcd, a.refs, belief), "own", own),
             ("open3d_m.ply", register(a.laserfit, o3d_ply, a.refs,
                                       ["--unit", "m", "--viewpoint",
-                                       " ".join(str(float(v) * 1e-3) for v in vp)]),
+                                       " ".join(str(float(v) * 1e-3) for v in vp)] + belief_m),
              "flat.pcd", own_flat),
             ("flat.pcd", own_flat, "own (organized)", own),
         ]
+        if a.assembled:
+            pairs.append(("assembled", register(a.laserfit, a.assembled, a.refs, belief), "own",
+                          own))
     for name, poses, base_name, base in pairs:
         for ref, (T, status) in poses.items():
             dt, dr = apart(base[ref][0], T)
