@@ -53,6 +53,15 @@ TEST(Recorded, ExportedBenchmarkScoresExactlyLikeTheSimulatedOne) {
   const auto r = bench::read_results(dir / "rec/results.jsonl");
   EXPECT_EQ(comparable(a), comparable(r));
   EXPECT_EQ(r.at(1).at("image"), 0);
+
+  // Scene names become directories of the export: one that is a path is refused, nothing written.
+  std::string yaml = test::read_bytes(dir / "tiny.yaml");
+  yaml.replace(yaml.find("- name: usb"), 11, "- name: ../up");
+  test::write_text(dir / "up.yaml", yaml);
+  expect_error_naming(
+      "up.yaml", [&] { bench::export_bop(bench::load_benchmark(dir / "up.yaml"), dir / "up"); },
+      "cannot name a file");
+  EXPECT_FALSE(fs::exists(dir / "up"));
 }
 
 // Ground truth as another tool writes it: rotations rounded to 7 digits are projected back onto

@@ -82,6 +82,12 @@ ExportSummary write_export(const Benchmark& b, const std::string& dir, const std
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<Trial> trials = select_trials(b, repetitions, scene_names);
   std::map<int, PreparedScene> scenes;
+  // Scene and object names become file names here: a name that is a path would write elsewhere.
+  for (const auto& sc : b.scenes)
+    for (const auto& t : sc.targets)
+      for (const std::string& n : {sc.name, t.object})
+        if (n.find_first_of("/\\") != std::string::npos || n.front() == '.')
+          throw Error(b.file, "'" + n + "' cannot name a file of the export");
   for (const auto& t : trials) {
     if (b.scenes[t.scene].recorded())
       throw Error(b.file, "scene '" + b.scenes[t.scene].name + "' is recorded already");
