@@ -108,10 +108,6 @@ std::string recorded_scan_path(const std::string& dir, int image_id) {
 
 PreparedScene prepare_recorded(const SceneCase& sc, uint64_t seed) {
   PreparedScene p;
-  p.truth = read_scene_gt(sc.recorded_dir + "/scene_gt.json");
-  const std::string prior = sc.recorded_dir + "/scene_prior.json";
-  std::error_code ec;
-  if ((p.has_prior = fs::exists(prior, ec))) p.prior = read_scene_gt(prior);
   for (const auto& t : sc.targets) {
     const TriMesh mesh =
         t.reference_mesh.empty() ? TriMesh{} : read_mesh(t.reference_mesh, sc.unit);
@@ -149,11 +145,9 @@ const Pose& pose_in(const PoseTable& table, const std::string& file, int image, 
 // Poses in the wrong unit (a scene_gt.json in metres) put the part nowhere near the scan: refuse
 // a truth that places the reference's centre farther from the scan's box than the reference's
 // own size, rather than score every registration as a miss.
-void check_placement(const std::string& file, const PointCloud& scan, const PointCloud& ref,
+void check_placement(const std::string& file, const Eigen::AlignedBox3d& box, const PointCloud& ref,
                      const Pose& T, const std::string& object) {
-  Eigen::AlignedBox3d box, rbox;
-  for (const auto& q : scan.points)
-    if (q.allFinite()) box.extend(q.cast<double>());
+  Eigen::AlignedBox3d rbox;
   for (const auto& q : ref.points) rbox.extend(q.cast<double>());
   const double d = box.exteriorDistance(T * rbox.center());
   if (!box.isEmpty() && d > rbox.diagonal().norm())
@@ -167,16 +161,18 @@ TrialInput recorded_trial(const SceneCase& sc, const PreparedScene& p, const Tri
   TrialInput in;
   const std::string scan = recorded_scan_path(sc.recorded_dir, t.image);
   in.scan = io::read_cloud(scan, sc.unit);
-  for (const auto& q : in.scan.points) in.scan_points += q.allFinite();
+  Eigen::AlignedBox3d box;  // of the valid points
+  for (const auto& q : in.scan.points)
+    if (q.allFinite()) ++in.scan_points, box.extend(q.cast<double>());
   if (in.scan_points == 0) throw Error(scan, "has no valid point");
   const std::string gt = sc.recorded_dir + "/scene_gt.json",
                     pr = sc.recorded_dir + "/scene_prior.json";
-  in.has_prior = p.has_prior;
+  in.has_prior = sc.has_prior;
   for (size_t k = 0; k < sc.targets.size(); ++k) {
-    in.truth.push_back(pose_in(p.truth, gt, t.image, sc.targets[k]));
-    in.prior.push_back(p.has_prior ? pose_in(p.prior, pr, t.image, sc.targets[k])
-                                   : Pose::Identity());
-    check_placement(gt, in.scan, p.reference[k], in.truth[k], sc.targets[k].object);
+    in.truth.push_back(pose_in(sc.truth, gt, t.image, sc.targets[k]));
+    in.prior.push_back(sc.has_prior ? pose_in(sc.prior, pr, t.image, sc.targets[k])
+                                    : Pose::Identity());
+    check_placement(gt, box, p.reference[k], in.truth[k], sc.targets[k].object);
   }
   return in;
 }

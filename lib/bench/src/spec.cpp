@@ -135,8 +135,10 @@ SceneCase read_scene_case(const YamlReader& R, const YAML::Node& s, const std::s
     } catch (const Error& e) {
       R.fail(where + ".unit", e.what());
     }
-    for (const auto& [id, objects] : read_scene_gt(sc.recorded_dir + "/scene_gt.json"))
-      sc.image_ids.push_back(id);
+    sc.truth = read_scene_gt(sc.recorded_dir + "/scene_gt.json");
+    const std::string prior = sc.recorded_dir + "/scene_prior.json";
+    std::error_code ec;
+    if ((sc.has_prior = std::filesystem::exists(prior, ec))) sc.prior = read_scene_gt(prior);
   } else if (s["unit"]) {
     R.fail(where + ".unit", "belongs to recorded scenes (a scan scene states its own units)");
   }

@@ -22,11 +22,11 @@ uint64_t trial_seed(uint64_t benchmark_seed, uint64_t n) {
 // One trial per recorded scan. Its seed derives from the image id, so a simulated benchmark
 // exported as recorded scenes (image id = trial index) registers with the same seeds.
 void append_recorded(const Benchmark& b, int scene, std::vector<Trial>& trials) {
-  const auto& ids = b.scenes[scene].image_ids;
-  for (size_t r = 0; r < ids.size(); ++r) {
+  int r = 0;
+  for (const auto& [image, objects] : b.scenes[scene].truth) {
     Trial t;
-    t.index = int(trials.size()), t.scene = scene, t.repetition = int(r), t.image = ids[r];
-    t.seed = trial_seed(b.seed, uint64_t(ids[r]));
+    t.index = int(trials.size()), t.scene = scene, t.repetition = r++, t.image = image;
+    t.seed = trial_seed(b.seed, uint64_t(image));
     t.conditions.rotation_deg = t.conditions.translation_mm = -1;  // measured, not perturbed
     trials.push_back(t);
   }

@@ -24,7 +24,7 @@ void write_scene_gt(const std::string& path, const PoseTable& poses);
 // scans/<id as 6 digits>.pcd, else .ply, in a recorded folder; throws naming the first if neither.
 std::string recorded_scan_path(const std::string& dir, int image_id);
 
-// A recorded scene's references, models and pose tables (see PreparedScene).
+// A recorded scene's references and models (see PreparedScene); its poses are the SceneCase's.
 PreparedScene prepare_recorded(const SceneCase& sc, uint64_t seed);
 // Trial t's scan and poses: truth from scene_gt.json, prior from scene_prior.json if there is one.
 TrialInput recorded_trial(const SceneCase& sc, const PreparedScene& p, const Trial& t);

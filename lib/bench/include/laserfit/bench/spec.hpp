@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "laserfit/core/pose.hpp"
 #include "laserfit/core/units.hpp"
 #include "laserfit/metrics/pose_error.hpp"
 #include "laserfit/registration/settings.hpp"
@@ -55,7 +56,10 @@ struct SceneCase {
   // same layout: the pose the cell believed; without it every method registers with no prior).
   std::string recorded_dir;
   Unit unit = Unit::Millimetre;  // recorded: of scans, references and models stating none
-  std::vector<int> image_ids;    // recorded: scene_gt.json's images, ascending; one trial each
+  // Recorded: image id -> obj_id -> T_scan_object, measured (scene_gt.json; one trial per image,
+  // ascending) and believed (scene_prior.json, if there is one). Read once, when the file loads.
+  std::map<int, std::map<int, Pose>> truth, prior;
+  bool has_prior = false;
   bool recorded() const { return !recorded_dir.empty(); }
   std::vector<Target> targets;
 };

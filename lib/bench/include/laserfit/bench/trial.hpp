@@ -47,9 +47,6 @@ struct PreparedScene {
   std::vector<std::vector<Eigen::Vector3f>> model;  // per target: mesh vertices (MSSD)
   std::vector<Eigen::Vector3d>
       pivot;  // per target: what the true pose turns about (object frame, mm)
-  // Recorded scenes: image id -> obj_id -> T_scan_object, measured and believed (the prior).
-  std::map<int, std::map<int, Pose>> truth, prior;
-  bool has_prior = false;
 };
 PreparedScene prepare_scene(const Benchmark& b, int scene);
 
