@@ -40,9 +40,10 @@ io::Json model_info(const TriMesh& mesh, const metrics::Symmetry& sym) {
     j["symmetries_continuous"] = {{{"axis", {a.x(), a.y(), a.z()}}, {"offset", {0, 0, 0}}}};
   if (sym.kind == metrics::Symmetry::Kind::Discrete) {
     io::Json list = io::Json::array();
-    for (int k = 1; k < sym.order; ++k) {
+    const auto rotations = sym.rotations();  // the identity first: BOP lists the others
+    for (size_t k = 1; k < rotations.size(); ++k) {
       Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
-      T.topLeftCorner<3, 3>() = Eigen::AngleAxisd(2 * M_PI * k / sym.order, a).toRotationMatrix();
+      T.topLeftCorner<3, 3>() = rotations[k];
       std::vector<double> flat;
       for (int i = 0; i < 16; ++i) flat.push_back(T(i / 4, i % 4));
       list.push_back(flat);
