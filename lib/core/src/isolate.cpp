@@ -3,9 +3,11 @@
 // it shares with the parent, and leaves with _exit so that nothing of the parent's state (atexit
 // handlers, stdio buffers, thread pools) runs twice.
 #include <fcntl.h>
+#include <poll.h>
 #include <sys/mman.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -127,10 +129,26 @@ std::string seconds(double s) {
 
 constexpr int kTimedOut = -1, kOutOfMemory = -2, kLost = -3;
 
+// Sleeps for `nap`, or less when the child exits first: a pidfd turns readable at its exit, so a
+// short read is answered at once rather than at the next poll (a fuzzer reads thousands).
+void nap_until_exit(int pidfd, std::chrono::microseconds nap) {
+  if (pidfd < 0) return std::this_thread::sleep_for(nap);  // a kernel before 5.3
+  pollfd p{pidfd, POLLIN, 0};
+  const timespec t{0, static_cast<long>(nap.count()) * 1000};
+  ::ppoll(&p, 1, &t, nullptr);
+}
+
 // Waits for the child; kills it at the deadline or when it holds more than the memory limit on
 // top of what it inherited. Returns its wait status, kTimedOut or kOutOfMemory.
 int wait_child(pid_t pid, const IsolationLimits& limits, double parent_resident_mib) {
   const auto t0 = std::chrono::steady_clock::now();
+  const int pidfd = static_cast<int>(::syscall(SYS_pidfd_open, pid, 0));
+  struct Closer {
+    int fd;
+    ~Closer() {
+      if (fd >= 0) ::close(fd);
+    }
+  } closer{pidfd};
   auto nap = std::chrono::microseconds(200);
   for (;;) {
     int status = 0;
@@ -148,7 +166,7 @@ int wait_child(pid_t pid, const IsolationLimits& limits, double parent_resident_
       }
       return late ? kTimedOut : kOutOfMemory;
     }
-    std::this_thread::sleep_for(nap);
+    nap_until_exit(pidfd, nap);
     nap = std::min(nap * 2, std::chrono::microseconds(20000));
   }
 }
