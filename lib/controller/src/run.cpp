@@ -1,10 +1,9 @@
-// One insertion attempt with a strategy, judged on the true poses.
+// One insertion attempt with a strategy (the paper's Section IV), against a cell behind its port.
 #include <chrono>
 #include <cmath>
 #include <sstream>
 
 #include "laserfit/controller/sim.hpp"
-#include "laserfit/core/rng.hpp"
 #include "laserfit/io/cloud_io.hpp"
 
 namespace laserfit::controller {
@@ -17,76 +16,123 @@ std::string fmt(double v) {
   return o.str();
 }
 
-// Moves the assembling arm (nominal model, null-space pull to q_ref) and returns where the part
-// truly ends up; the arm's joints are updated.
-Pose move(const cell::Cell& c, robot::Joints& q, const Pose& goal, const robot::Joints& q_ref,
-          const robot::MotionSettings& ms, robot::Repeatability& rep, std::mt19937_64& g) {
-  q = robot::move_cartesian(c.nominal, q, goal, q_ref, ms).q;
-  return c.part_true(q, rep, g);
+// One trial: what the loop knows (the cell's reports, its model, its measurements) and the
+// outcome it writes. Every motion goes through `move`, which ends the trial on a fault.
+class Loop {
+ public:
+  Loop(CellPort& cell, const cell::Cell& c, const SimSetup& su, Strategy strategy, int start,
+       uint64_t seed, const ControllerSettings& s)
+      : cell_(cell), c_(c), su_(su), s_(s), seed_(seed) {
+    o_.strategy = strategy, o_.setting = su.setting, o_.start = start, o_.seed = seed;
+  }
+  Outcome run();
+
+ private:
+  bool move(const Pose& T_baseA_flange_goal, const robot::Joints& q_ref,
+            const robot::MotionSettings& ms, double* duration_s = nullptr);
+  bool shift(const Pose& delta, double min_duration_s);
+  bool scan_until_trusted(bool gated, bool outside, Correction& corr);
+  bool correct_rounds(bool gated, bool outside);
+  bool stages();
+  void dump(const PointCloud& scan) const;
+  Outcome finish(const std::string& result);
+  Outcome refuse(const std::string& why);
+
+  CellPort& cell_;
+  const cell::Cell& c_;
+  const SimSetup& su_;
+  const ControllerSettings& s_;
+  uint64_t seed_;
+  Outcome o_;
+  std::string why_;              // why the trial stops: a fault the cell reported, or a refusal
+  Pose way_ = Pose::Identity();  // the waypoint being reached (part in the target frame)
+  std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
+  Measurement m_;
+  std::optional<Pose> tracked_;       // the target's last trusted measurement (scan frame)
+  std::optional<Pose> tracked_part_;  // the part relative to the target: last measured, then moved
+};
+
+bool Loop::move(const Pose& goal, const robot::Joints& q_ref, const robot::MotionSettings& ms,
+                double* duration_s) {
+  MotionCommand cmd;
+  cmd.T_baseA_flange_goal = goal, cmd.q_ref = q_ref, cmd.motion = ms;
+  const MotionReport r = cell_.move(cmd);
+  if (duration_s) *duration_s = r.duration_s;
+  if (!r.ok) why_ = "the assembling arm reported a fault: " + r.reason;
+  return r.ok;
 }
 
-}  // namespace
+// Moves the part by `delta` (scan / world frame) holding the elbow: a null-space drift toward IC2
+// would move the true flange by the model error while the nominal one stays put.
+bool Loop::shift(const Pose& delta, double min_duration_s) {
+  robot::MotionSettings ms = s_.motion;
+  ms.min_duration_s = min_duration_s;
+  const robot::Joints hold = cell_.joints();
+  const Pose& B = c_.T_world_baseA_believed;
+  if (!move(B.inverse() * delta * B * c_.nominal.fk(hold), hold, ms)) return false;
+  if (tracked_part_)
+    tracked_part_ = m_.T_scan_target.inverse() * delta * m_.T_scan_target * *tracked_part_;
+  return true;
+}
 
-Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy, int start,
-                      uint64_t seed, const ControllerSettings& s) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const auto& cs = c.s;
-  Outcome o;
-  o.strategy = strategy, o.setting = su.setting, o.start = start, o.seed = seed;
-  std::mt19937_64 g = block_rng(seed, 0xC0, 0);
-  robot::Joints q = su.q_start.at(start);
-  robot::Repeatability rep(cs.arm_errors);
-  const robot::Joints& q_ref = strategy == Strategy::ProprioIC1 ? su.q_taught : su.q_ic2_ref;
-  auto finish = [&](const Pose& part) {
-    o.insertion = cell::check_insertion(cs, su.T_world_target, part);
-    o.success = o.insertion.success;
-    if (o.result.empty()) o.result = o.success ? "inserted" : "missed";
-    o.log.push_back("insertion: lateral (" + fmt(o.insertion.x_mm * 1e3) + ", " +
-                    fmt(o.insertion.y_mm * 1e3) + ") um, depth " + fmt(o.insertion.depth_mm * 1e3) +
-                    " um, axis " + fmt(o.insertion.angle_deg) + " deg -> " + o.result);
-    o.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return o;
-  };
-  if (strategy == Strategy::ProprioIC1 || strategy == Strategy::ProprioIC2) {
-    o.log.push_back(std::string("proprioception only, ") +
-                    (strategy == Strategy::ProprioIC1 ? "IC1" : "IC2") +
-                    ": reach the recorded insertion pose from start " + std::to_string(start + 1));
-    return finish(move(c, q, su.p_ins, q_ref, s.motion, rep, g));
+Outcome Loop::finish(const std::string& result) {
+  o_.result = result;
+  if (const auto j = cell_.judge()) {
+    o_.insertion = *j, o_.success = j->success;
+    if (o_.result.empty()) o_.result = o_.success ? "inserted" : "missed";
+  } else if (o_.result.empty()) {
+    o_.success = true;  // a real cell's insertion motion completed; it judges the rest itself
+    o_.result = "inserted (not judged by the cell)";
+  }
+  o_.log.push_back("insertion: lateral (" + fmt(o_.insertion.x_mm * 1e3) + ", " +
+                   fmt(o_.insertion.y_mm * 1e3) + ") um, depth " +
+                   fmt(o_.insertion.depth_mm * 1e3) + " um, axis " + fmt(o_.insertion.angle_deg) +
+                   " deg -> " + o_.result);
+  o_.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  return o_;
+}
+
+Outcome Loop::refuse(const std::string& why) {  // never insert blind
+  cell_.stop();
+  o_.result = "refused: " + why;
+  o_.log.push_back(o_.result);
+  if (const auto j = cell_.judge()) o_.insertion = *j;
+  o_.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  return o_;
+}
+
+Outcome Loop::run() {
+  const Strategy st = o_.strategy;
+  const robot::Joints& q_ref = st == Strategy::ProprioIC1 ? su_.q_taught : su_.q_ic2_ref;
+  if (st == Strategy::ProprioIC1 || st == Strategy::ProprioIC2) {
+    o_.log.push_back(
+        std::string("proprioception only, ") + (st == Strategy::ProprioIC1 ? "IC1" : "IC2") +
+        ": reach the recorded insertion pose from start " + std::to_string(o_.start + 1));
+    return move(su_.p_ins, q_ref, s_.motion) ? finish("") : refuse(why_);
   }
   // Laser feedback: approach (IC2), then scan, register, correct, verify; finally insert.
-  Pose approach = cs.T_target_part_insert;
-  approach.translation() = cs.approach_mm;
-  Pose part =
-      move(c, q, c.flange_for_part(su.T_world_target_believed * approach), q_ref, s.motion, rep, g);
-  o.log.push_back("approach with IC2 from start " + std::to_string(start + 1));
-  const bool orient = strategy == Strategy::LaserPose;
-  Measurement m;
-  std::optional<Pose> tracked;       // the target's last trusted measurement (scan frame)
-  std::optional<Pose> tracked_part;  // the part relative to the target: last measured, then moved
-  auto refuse = [&](const std::string& why) {
-    o.result = "refused: " + why;
-    o.log.push_back(o.result);
-    o.insertion = cell::check_insertion(cs, su.T_world_target, part);
-    o.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return o;  // never insert blind
-  };
-  // Moves the part by `v` (scan / world frame) holding the elbow: a null-space drift toward IC2
-  // would move the true flange by the model error while the nominal one stays put.
-  auto shift = [&](const Pose& delta, double min_duration_s) {
-    robot::MotionSettings ms = s.motion;
-    ms.min_duration_s = min_duration_s;
-    const robot::Joints hold = q;
-    const Pose& B = c.T_world_baseA_believed;
-    part = move(c, q, B.inverse() * delta * B * c.nominal.fk(q), hold, ms, rep, g);
-    if (tracked_part)
-      tracked_part = m.T_scan_target.inverse() * delta * m.T_scan_target * *tracked_part;
-  };
-  // Waypoints from the approach toward the insertion, each reached and verified by scans: an
-  // unverified move of d mm on an arm whose model is off by a few degrees lands d * sin(error)
-  // off, so the last unverified step is kept short.
+  Pose approach = c_.s.T_target_part_insert;
+  approach.translation() = c_.s.approach_mm;
+  if (!move(c_.flange_for_part(su_.T_world_target_believed * approach), q_ref, s_.motion))
+    return refuse(why_);
+  o_.log.push_back("approach with IC2 from start " + std::to_string(o_.start + 1));
+  way_ = approach;
+  if (!stages()) return refuse(why_);
+  // Insert: the last step, along the measured target.
+  Pose d = Pose::Identity();
+  d.translation() =
+      m_.T_scan_target.linear() * (c_.s.T_target_part_insert.translation() - way_.translation());
+  return shift(d, s_.motion.min_duration_s) ? finish("") : refuse(why_);
+}
+
+// Waypoints from the approach toward the insertion, each reached and verified by scans: an
+// unverified move of d mm on an arm whose model is off by a few degrees lands d * sin(error)
+// off, so the last unverified step is kept short.
+bool Loop::stages() {
+  const auto& cs = c_.s;
+  const Pose approach = way_;
   std::vector<double> fractions = {0.0};
   fractions.insert(fractions.end(), cs.stages.begin(), cs.stages.end());
-  Pose way = approach;
   for (size_t w = 0; w < fractions.size(); ++w) {
     Pose next = approach;
     next.translation() =
@@ -94,95 +140,115 @@ Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy
         (cs.approach_mm - cs.T_target_part_insert.translation()) * (1 - fractions[w]);
     if (w > 0) {
       Pose d = Pose::Identity();
-      d.translation() = m.T_scan_target.linear() * (next.translation() - way.translation());
-      shift(d, s.motion.min_duration_s);
-      o.log.push_back("stage " + std::to_string(w) + ": " + fmt(100 * fractions[w]) +
-                      " % of the way in");
+      d.translation() = m_.T_scan_target.linear() * (next.translation() - way_.translation());
+      if (!shift(d, s_.motion.min_duration_s)) return false;
+      o_.log.push_back("stage " + std::to_string(w) + ": " + fmt(100 * fractions[w]) +
+                       " % of the way in");
     }
-    way = next;
+    way_ = next;
     const Pose& Q = cs.T_target_part_insert;
     const bool outside =
-        (way.translation() - Q.translation()).dot(Q.linear().col(2)) < -cs.clearance.depth_mm;
-    const bool gated = w > 0;  // the approach has been corrected: the axial trust region applies
-    for (int round = 0; round <= s.max_rounds; ++round, ++o.rounds) {
-      m = Measurement{};
-      Correction corr;
-      double sweep_mm = 0;  // the scene's
-      bool raised = false;
-      for (int k = 0; k < s.max_scans && !m.ok; ++k) {  // scan until the registrations are trusted
-        const uint64_t scan_seed = mix_seed(seed ^ (uint64_t(o.scans) << 32));
-        const PointCloud scan = scan_cell(c, su, part, scan_seed, g, sweep_mm, raised);
-        ++o.scans;
-        if (!s.dump_dir.empty()) {
-          const std::string tag = "_s" + std::to_string(su.setting);
-          io::write_cloud(s.dump_dir + "/" + strategy_name(strategy) + tag + "_start" +
-                              std::to_string(start + 1) + "_scan" + std::to_string(o.scans) +
-                              ".pcd",
-                          scan);
-          io::write_cloud(s.dump_dir + "/target_ref" + tag + ".pcd", su.target_ref);
-          io::write_cloud(s.dump_dir + "/part_ref" + tag + ".pcd", su.part_ref);
-        }
-        m = measure(scan, su.target_ref, su.part_ref, su.T_world_target_believed,
-                    c.part_believed(q), cs, s, scan_seed, o.log, tracked, tracked_part);
-        if (m.target_ok) tracked = m.T_scan_target;
-        // The target was seen but not the part: the approach may have left it outside the sweep,
-        // and then (not in the long sweep either) nearer to the scanner than its measuring range.
-        const std::string not_found =
-            "no trusted " + cs.scene.objects[cs.part].name + " near the target: next scan ";
-        if (m.target_ok && !m.ok && sweep_mm == 0 && cs.search_sweep_mm > 0) {
-          sweep_mm = cs.search_sweep_mm;
-          o.log.push_back(not_found + "sweeps " + fmt(sweep_mm) + " mm");
-        } else if (m.target_ok && !m.ok && !raised && cs.search_raise_mm > 0) {
-          raised = true;
-          o.log.push_back(not_found + "from " + fmt(cs.search_raise_mm) + " mm farther back");
-        }
-        if (!m.ok) continue;
-        // The pose strategy corrects the orientation in the first round, the position after.
-        // Along its axis the part is corrected while its end is still outside the target (above
-        // the mouth): an IC2 approach leaves millimetres there, and each unverified move of d mm
-        // lands ~0.1 d off. Inside, the target hides the end and the measured end is short.
-        corr = compute_correction(m, way, orient && o.rounds == 0, outside);
-        if (gated && std::abs(corr.axial_mm) > s.axial_gate_mm && k + 1 < s.max_scans) {
-          m.ok = false;  // a thread end cut short or lengthened by the needle under it: look again
-          o.log.push_back("implausible: " + fmt(corr.axial_mm * 1e3) +
-                          " um along the axis after a verified move; re-scan");
-        } else {
-          tracked_part = m.T_scan_target.inverse() * m.T_scan_part;
-        }
-      }
-      if (!m.ok) return refuse(m.reason + " after " + std::to_string(s.max_scans) + " scans");
-      {  // What the simulation knows and the controller does not: the true error, for the log only.
-        const Pose goal = su.T_world_target * way;
-        const Eigen::Vector3d e = goal.translation() - part.translation(), n = goal.linear().col(2);
-        o.log.push_back("  truth (simulation only): lateral error " +
-                        fmt((e - n * n.dot(e)).norm() * 1e3) + " um, along the axis " +
-                        fmt(n.dot(e) * 1e3) + " um");
-      }
-      o.log.push_back("round " + std::to_string(o.rounds + 1) + ": measured lateral error " +
-                      fmt(corr.lateral_mm * 1e3) + " um, along the axis " +
-                      fmt(corr.axial_mm * 1e3) + " um, axis " + fmt(corr.angle_deg) + " deg");
-      const bool settled = corr.lateral_mm < s.verify_mm &&
-                           std::abs(corr.axial_mm) < s.verify_axial_mm &&
-                           (!orient || corr.angle_deg < cs.clearance.angle_deg / 2);
-      if (settled && (round > 0 || w > 0)) break;
-      // Correct, in the last round too: its reading is still the best estimate (applied
-      // unverified, like a stage move). Along the axis at most the trust region once gated.
-      const Correction step = gated ? limit_axial(corr, s.axial_gate_mm) : corr;
-      const planning::Trajectory tr = plan(c, c.nominal.fk(q), step.delta, s);
-      if (!tr.ok) return refuse(tr.reason);
-      shift(step.delta, tr.duration_s);
-      o.log.push_back("corrected: " + fmt(tr.translation_mm * 1e3) + " um, " +
-                      fmt(tr.rotation_deg) + " deg in " + fmt(tr.duration_s) + " s" +
-                      (round == s.max_rounds ? " (last round, unverified)" : ""));
-      if (round == s.max_rounds) break;
+        (way_.translation() - Q.translation()).dot(Q.linear().col(2)) < -cs.clearance.depth_mm;
+    // After the approach has been corrected, the axial trust region applies.
+    if (!correct_rounds(w > 0, outside)) return false;
+  }
+  return true;
+}
+
+// Measure, correct, verify by the next measurement, until settled or out of rounds.
+bool Loop::correct_rounds(bool gated, bool outside) {
+  const bool orient = o_.strategy == Strategy::LaserPose;
+  for (int round = 0; round <= s_.max_rounds; ++round, ++o_.rounds) {
+    Correction corr;
+    if (!scan_until_trusted(gated, outside, corr)) return false;
+    const std::string note = cell_.truth_note(way_);
+    if (!note.empty()) o_.log.push_back(note);
+    o_.log.push_back("round " + std::to_string(o_.rounds + 1) + ": measured lateral error " +
+                     fmt(corr.lateral_mm * 1e3) + " um, along the axis " +
+                     fmt(corr.axial_mm * 1e3) + " um, axis " + fmt(corr.angle_deg) + " deg");
+    const bool settled = corr.lateral_mm < s_.verify_mm &&
+                         std::abs(corr.axial_mm) < s_.verify_axial_mm &&
+                         (!orient || corr.angle_deg < c_.s.clearance.angle_deg / 2);
+    if (settled && (round > 0 || gated)) break;
+    // Correct, in the last round too: its reading is still the best estimate (applied
+    // unverified, like a stage move). Along the axis at most the trust region once gated.
+    const Correction step = gated ? limit_axial(corr, s_.axial_gate_mm) : corr;
+    const planning::Trajectory tr = plan(c_, c_.nominal.fk(cell_.joints()), step.delta, s_);
+    if (!tr.ok) return why_ = tr.reason, false;
+    if (!shift(step.delta, tr.duration_s)) return false;
+    o_.log.push_back("corrected: " + fmt(tr.translation_mm * 1e3) + " um, " + fmt(tr.rotation_deg) +
+                     " deg in " + fmt(tr.duration_s) + " s" +
+                     (round == s_.max_rounds ? " (last round, unverified)" : ""));
+    if (round == s_.max_rounds) break;
+  }
+  return true;
+}
+
+// Scans until both registrations are trusted (at most max_scans), widening the search when the
+// target is seen but not the part; `corr` is the correction the last trusted measurement asks.
+bool Loop::scan_until_trusted(bool gated, bool outside, Correction& corr) {
+  const auto& cs = c_.s;
+  const bool orient = o_.strategy == Strategy::LaserPose;
+  m_ = Measurement{};
+  ScanRequest req;  // the scene's sweep, from the taught scan pose
+  for (int k = 0; k < s_.max_scans && !m_.ok; ++k) {
+    const uint64_t seed = scan_seed(seed_, o_.scans);
+    const PointCloud scan = cell_.scan(req);
+    ++o_.scans;
+    if (scan.points.empty()) return why_ = "the cell returned a scan with no data", false;
+    if (!s_.dump_dir.empty()) dump(scan);
+    m_ = measure(scan, su_.target_ref, su_.part_ref, su_.T_world_target_believed,
+                 c_.part_believed(cell_.joints()), cs, s_, seed, o_.log, tracked_, tracked_part_);
+    if (m_.target_ok) tracked_ = m_.T_scan_target;
+    // The target was seen but not the part: the approach may have left it outside the sweep,
+    // and then (not in the long sweep either) nearer to the scanner than its measuring range.
+    const std::string not_found =
+        "no trusted " + cs.scene.objects[cs.part].name + " near the target: next scan ";
+    if (m_.target_ok && !m_.ok && req.sweep_mm == 0 && cs.search_sweep_mm > 0) {
+      req.sweep_mm = cs.search_sweep_mm;
+      o_.log.push_back(not_found + "sweeps " + fmt(req.sweep_mm) + " mm");
+    } else if (m_.target_ok && !m_.ok && !req.raised && cs.search_raise_mm > 0) {
+      req.raised = true;
+      o_.log.push_back(not_found + "from " + fmt(cs.search_raise_mm) + " mm farther back");
+    }
+    if (!m_.ok) continue;
+    // The pose strategy corrects the orientation in the first round, the position after.
+    // Along its axis the part is corrected while its end is still outside the target (above
+    // the mouth): an IC2 approach leaves millimetres there, and each unverified move of d mm
+    // lands ~0.1 d off. Inside, the target hides the end and the measured end is short.
+    corr = compute_correction(m_, way_, orient && o_.rounds == 0, outside);
+    if (gated && std::abs(corr.axial_mm) > s_.axial_gate_mm && k + 1 < s_.max_scans) {
+      m_.ok = false;  // a thread end cut short or lengthened by the needle under it: look again
+      o_.log.push_back("implausible: " + fmt(corr.axial_mm * 1e3) +
+                       " um along the axis after a verified move; re-scan");
+    } else {
+      tracked_part_ = m_.T_scan_target.inverse() * m_.T_scan_part;
     }
   }
-  // Insert: the last step, along the measured target.
-  Pose d = Pose::Identity();
-  d.translation() =
-      m.T_scan_target.linear() * (cs.T_target_part_insert.translation() - way.translation());
-  shift(d, s.motion.min_duration_s);
-  return finish(part);
+  if (!m_.ok) why_ = m_.reason + " after " + std::to_string(s_.max_scans) + " scans";
+  return m_.ok;
+}
+
+void Loop::dump(const PointCloud& scan) const {
+  const std::string tag = "_s" + std::to_string(su_.setting), dir = s_.dump_dir + "/";
+  io::write_cloud(dir + strategy_name(o_.strategy) + tag + "_start" + std::to_string(o_.start + 1) +
+                      "_scan" + std::to_string(o_.scans) + ".pcd",
+                  scan);
+  io::write_cloud(dir + "target_ref" + tag + ".pcd", su_.target_ref);
+  io::write_cloud(dir + "part_ref" + tag + ".pcd", su_.part_ref);
+}
+
+}  // namespace
+
+Outcome run_insertion(CellPort& cell, const cell::Cell& c, const SimSetup& su, Strategy strategy,
+                      int start, uint64_t seed, const ControllerSettings& s) {
+  return Loop(cell, c, su, strategy, start, seed, s).run();
+}
+
+Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy, int start,
+                      uint64_t seed, const ControllerSettings& s) {
+  SimCell cell(c, su, start, seed);
+  return run_insertion(cell, c, su, strategy, start, seed, s);
 }
 
 io::Json outcome_json(const Outcome& o) {

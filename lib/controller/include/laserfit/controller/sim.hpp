@@ -1,7 +1,9 @@
 #pragma once
 // The controller run against the simulated cell: teaching, start configurations, scans from the
 // sensing arm's true pose, and the insertion outcome judged on the true poses.
+#include "laserfit/controller/cell_port.hpp"
 #include "laserfit/controller/controller.hpp"
+#include "laserfit/robot/error_model.hpp"
 
 namespace laserfit::controller {
 
@@ -22,6 +24,41 @@ struct SimSetup {
 };
 SimSetup prepare_setting(const cell::Cell& c, int setting, const ControllerSettings& s,
                          uint64_t seed);
+
+// The simulated cell behind the port, for one trial: the true arms (kinematic errors,
+// repeatability), the scanner simulator from the sensing arm's true pose, the insertion judged
+// on the true poses. Its noise follows from `seed`: each scan's from the seed and the number of
+// scans before it (the loop seeds its registrations the same way, see scan_seed).
+class SimCell : public CellPort {
+ public:
+  SimCell(const cell::Cell& c, const SimSetup& su, int start, uint64_t seed);
+  robot::Joints joints() override { return q_; }
+  MotionReport move(const MotionCommand& command) override;
+  PointCloud scan(const ScanRequest& request) override;
+  void stop() override {}
+  std::optional<cell::Insertion> judge() override;
+  std::string truth_note(const Pose& T_target_part_goal) override;
+
+ private:
+  const cell::Cell& c_;
+  const SimSetup& su_;
+  uint64_t seed_;
+  std::mt19937_64 g_;
+  robot::Repeatability rep_;
+  robot::Joints q_;
+  std::optional<Pose> part_;  // the part's true pose (world) once the arm has moved
+  int scans_ = 0;
+};
+
+// The seed of the n-th scan of a trial (n from 0): its noise in the simulated cell and its
+// registrations in the loop.
+uint64_t scan_seed(uint64_t trial_seed, int n);
+
+// The on-line loop against any cell: `c` is the cell's model (nominal kinematics and believed
+// calibration; its true parts are not read), `su` its taught poses and references.
+struct Outcome;
+Outcome run_insertion(CellPort& cell, const cell::Cell& c, const SimSetup& su, Strategy strategy,
+                      int start, uint64_t seed, const ControllerSettings& s);
 
 struct Outcome {
   Strategy strategy = Strategy::ProprioIC1;

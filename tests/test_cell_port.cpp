@@ -1,0 +1,115 @@
+// The on-line loop against a cell behind its port: the simulated cell gives what `sim` gives, and
+// a cell that reports a fault or returns a scan with no data stops the loop at once: the stop is
+// sent, no motion command follows, the reason is the outcome.
+#include <gtest/gtest.h>
+
+#include "laserfit/controller/sim.hpp"
+
+using namespace laserfit;
+
+namespace {
+const std::string kSource = LASERFIT_SOURCE_DIR;
+
+// The simulated cell with one fault injected: the n-th motion (from 1) fails, or every scan from
+// the n-th on is empty. Counts what the loop asks after the fault.
+class FaultyCell : public controller::CellPort {
+ public:
+  FaultyCell(controller::SimCell& sim, int fault_move, int empty_scan)
+      : sim_(sim), fault_move_(fault_move), empty_scan_(empty_scan) {}
+  robot::Joints joints() override { return sim_.joints(); }
+  controller::MotionReport move(const controller::MotionCommand& c) override {
+    ++moves;
+    if (faulted) ++moves_after_fault;
+    if (moves == fault_move_) {
+      faulted = true;
+      controller::MotionReport r;
+      r.reason = "joint 4 torque limit";
+      return r;
+    }
+    return sim_.move(c);
+  }
+  PointCloud scan(const controller::ScanRequest& r) override {
+    ++scans;
+    if (faulted) ++scans_after_fault;
+    if (empty_scan_ > 0 && scans >= empty_scan_) return faulted = true, PointCloud{};
+    return sim_.scan(r);
+  }
+  void stop() override { ++stops; }
+  std::optional<cell::Insertion> judge() override { return sim_.judge(); }
+  std::string truth_note(const Pose& goal) override { return sim_.truth_note(goal); }
+  int moves = 0, scans = 0, stops = 0, moves_after_fault = 0, scans_after_fault = 0;
+  bool faulted = false;
+
+ private:
+  controller::SimCell& sim_;
+  int fault_move_, empty_scan_;
+};
+
+// A needle trial, laser strategy. short_: no intermediate stages and one correction round (the
+// loop's every path but the stage moves, in a third of the time).
+struct Trial {
+  explicit Trial(bool short_ = false) {
+    if (!short_) return;
+    s.max_rounds = 1;
+    c.s.stages.clear();
+  }
+  cell::CellSettings cs = cell::load_cell(kSource + "/cells/needle.yaml");
+  controller::ControllerSettings s = [this] {
+    auto s = controller::settings_for(cs);
+    s.thresholds = registration::load_thresholds(kSource + "/reports/paper/thresholds_needle.yaml");
+    return s;
+  }();
+  cell::Cell c{cs, 1};
+  controller::SimSetup su = controller::prepare_setting(c, 0, s, 1);
+  controller::Outcome run(controller::CellPort& cell) {
+    return controller::run_insertion(cell, c, su, controller::Strategy::Laser, 0, 9, s);
+  }
+};
+}  // namespace
+
+// Through the port with no fault, the loop is the one `sim` runs: every field of the outcome and
+// every line of its log equal (exact: the same seeds drive the same simulated cell).
+TEST(CellPort, ThroughThePortTheOutcomeIsSims) {
+  Trial t(true);
+  controller::SimCell sim(t.c, t.su, 0, 9);
+  FaultyCell cell(sim, 0, 0);
+  const auto a = t.run(cell);
+  const auto b = controller::run_insertion(t.c, t.su, controller::Strategy::Laser, 0, 9, t.s);
+  EXPECT_EQ(a.result, b.result);
+  EXPECT_EQ(a.log, b.log);
+  EXPECT_EQ(a.scans, b.scans);
+  EXPECT_EQ(a.success, b.success);
+  EXPECT_EQ(a.insertion.x_mm, b.insertion.x_mm);
+  EXPECT_EQ(a.insertion.y_mm, b.insertion.y_mm);
+  EXPECT_GE(cell.moves, 3);  // approach, at least one correction, the insertion
+  EXPECT_EQ(cell.stops, 0);
+}
+
+// A fault on the approach and on the first correction: refused with the arm's reason, one stop,
+// nothing commanded after the fault (not even a scan).
+TEST(CellPort, AFaultStopsTheLoopWithNoFurtherCommand) {
+  for (int fault_move : {1, 2}) {
+    Trial t;
+    controller::SimCell sim(t.c, t.su, 0, 9);
+    FaultyCell cell(sim, fault_move, 0);
+    const auto o = t.run(cell);
+    EXPECT_EQ(o.result, "refused: the assembling arm reported a fault: joint 4 torque limit");
+    EXPECT_FALSE(o.success);
+    EXPECT_EQ(cell.stops, 1);
+    EXPECT_EQ(cell.moves_after_fault, 0);
+    EXPECT_EQ(cell.scans_after_fault, 0);
+  }
+}
+
+// A scan with no data at all (the scanner delivered nothing) is not re-tried as an untrusted
+// registration: the loop stops at once.
+TEST(CellPort, AScanWithNoDataStopsTheLoop) {
+  Trial t;
+  controller::SimCell sim(t.c, t.su, 0, 9);
+  FaultyCell cell(sim, 0, 1);
+  const auto o = t.run(cell);
+  EXPECT_EQ(o.result, "refused: the cell returned a scan with no data");
+  EXPECT_EQ(cell.stops, 1);
+  EXPECT_EQ(cell.moves_after_fault, 0);
+  EXPECT_EQ(cell.scans_after_fault, 0);
+}
