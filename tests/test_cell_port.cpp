@@ -28,10 +28,10 @@ class FaultyCell : public controller::CellPort {
     }
     return sim_.move(c);
   }
-  PointCloud scan(const controller::ScanRequest& r) override {
+  controller::Sweep scan(const controller::ScanRequest& r) override {
     ++scans;
     if (faulted) ++scans_after_fault;
-    if (empty_scan_ > 0 && scans >= empty_scan_) return faulted = true, PointCloud{};
+    if (empty_scan_ > 0 && scans >= empty_scan_) return faulted = true, controller::Sweep{};
     return sim_.scan(r);
   }
   void stop() override { ++stops; }
@@ -82,6 +82,12 @@ TEST(CellPort, ThroughThePortTheOutcomeIsSims) {
   EXPECT_EQ(a.insertion.x_mm, b.insertion.x_mm);
   EXPECT_EQ(a.insertion.y_mm, b.insertion.y_mm);
   EXPECT_GE(cell.moves, 3);  // approach, at least one correction, the insertion
+  // Completion time: the cell's motions and sweeps (each sweep 6 mm at 10 mm/s: 0.6 s) plus the
+  // controller's computation, which excludes the simulation inside the cell's calls.
+  EXPECT_GE(a.cell_time_s, 0.6 * a.scans);
+  EXPECT_GT(a.compute_s, 0.0);
+  EXPECT_LT(a.compute_s, a.time_s);
+  EXPECT_DOUBLE_EQ(a.completion_s, a.cell_time_s + a.compute_s);
   EXPECT_EQ(cell.stops, 0);
 }
 

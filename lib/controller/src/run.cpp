@@ -1,4 +1,5 @@
 // One insertion attempt with a strategy (the paper's Section IV), against a cell behind its port.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -8,6 +9,10 @@
 
 namespace laserfit::controller {
 namespace {
+
+double since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
 
 std::string fmt(double v) {
   std::ostringstream o;
@@ -47,6 +52,9 @@ class Loop {
   std::string why_;              // why the trial stops: a fault the cell reported, or a refusal
   Pose way_ = Pose::Identity();  // the waypoint being reached (part in the target frame)
   std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
+  double in_cell_s_ = 0;  // wall-clock time spent inside the cell's calls
+  double cell_s_ = 0;     // the cell's own time: motions and sweeps as it reports them
+  void times();
   Measurement m_;
   std::optional<Pose> tracked_;       // the target's last trusted measurement (scan frame)
   std::optional<Pose> tracked_part_;  // the part relative to the target: last measured, then moved
@@ -56,7 +64,10 @@ bool Loop::move(const Pose& goal, const robot::Joints& q_ref, const robot::Motio
                 double* duration_s) {
   MotionCommand cmd;
   cmd.T_baseA_flange_goal = goal, cmd.q_ref = q_ref, cmd.motion = ms;
+  const auto t = std::chrono::steady_clock::now();
   const MotionReport r = cell_.move(cmd);
+  in_cell_s_ += since(t);
+  cell_s_ += r.duration_s;
   if (duration_s) *duration_s = r.duration_s;
   if (!r.ok) why_ = "the assembling arm reported a fault: " + r.reason;
   return r.ok;
@@ -75,6 +86,13 @@ bool Loop::shift(const Pose& delta, double min_duration_s) {
   return true;
 }
 
+void Loop::times() {
+  o_.time_s = since(t0_);
+  o_.cell_time_s = cell_s_;
+  o_.compute_s = std::max(0.0, o_.time_s - in_cell_s_);
+  o_.completion_s = o_.cell_time_s + o_.compute_s;
+}
+
 Outcome Loop::finish(const std::string& result) {
   o_.result = result;
   if (const auto j = cell_.judge()) {
@@ -88,7 +106,7 @@ Outcome Loop::finish(const std::string& result) {
                    fmt(o_.insertion.y_mm * 1e3) + ") um, depth " +
                    fmt(o_.insertion.depth_mm * 1e3) + " um, axis " + fmt(o_.insertion.angle_deg) +
                    " deg -> " + o_.result);
-  o_.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  times();
   return o_;
 }
 
@@ -97,7 +115,7 @@ Outcome Loop::refuse(const std::string& why) {  // never insert blind
   o_.result = "refused: " + why;
   o_.log.push_back(o_.result);
   if (const auto j = cell_.judge()) o_.insertion = *j;
-  o_.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  times();
   return o_;
 }
 
@@ -193,7 +211,11 @@ bool Loop::scan_until_trusted(bool gated, bool outside, Correction& corr) {
   ScanRequest req;  // the scene's sweep, from the taught scan pose
   for (int k = 0; k < s_.max_scans && !m_.ok; ++k) {
     const uint64_t seed = scan_seed(seed_, o_.scans);
-    const PointCloud scan = cell_.scan(req);
+    const auto t = std::chrono::steady_clock::now();
+    const Sweep sweep = cell_.scan(req);
+    in_cell_s_ += since(t);
+    cell_s_ += sweep.duration_s;
+    const PointCloud& scan = sweep.cloud;
     ++o_.scans;
     if (scan.points.empty()) return why_ = "the cell returned a scan with no data", false;
     if (!s_.dump_dir.empty()) dump(scan);
@@ -264,6 +286,9 @@ io::Json outcome_json(const Outcome& o) {
           {"scans", o.scans},
           {"rounds", o.rounds},
           {"time_s", o.time_s},
+          {"cell_time_s", o.cell_time_s},
+          {"compute_s", o.compute_s},
+          {"completion_s", o.completion_s},
           {"log", o.log}};
 }
 

@@ -1,4 +1,5 @@
 // The simulated cell behind the controller's port (see sim.hpp).
+#include <algorithm>
 #include <sstream>
 
 #include "laserfit/controller/sim.hpp"
@@ -30,9 +31,16 @@ MotionReport SimCell::move(const MotionCommand& command) {
   return out;
 }
 
-PointCloud SimCell::scan(const ScanRequest& request) {
+// The sweep takes its length at the sweep speed (the sensing arm's move to the raised pose and
+// back is not counted).
+Sweep SimCell::scan(const ScanRequest& request) {
   const Pose part = part_ ? *part_ : c_.part_believed(q_);
-  return scan_cell(c_, su_, part, scan_seed(seed_, scans_++), g_, request.sweep_mm, request.raised);
+  const auto& sw = c_.s.scene.settings.sweep;
+  Sweep out;
+  out.cloud =
+      scan_cell(c_, su_, part, scan_seed(seed_, scans_++), g_, request.sweep_mm, request.raised);
+  out.duration_s = std::max(request.sweep_mm, sw.length_mm) / sw.speed_mm_s;
+  return out;
 }
 
 std::optional<cell::Insertion> SimCell::judge() {

@@ -35,12 +35,18 @@ struct ScanRequest {
   bool raised = false;
 };
 
+// What a sweep returns: the cloud (an empty one: no data) and how long the sweep took (s).
+struct Sweep {
+  PointCloud cloud;
+  double duration_s = 0;
+};
+
 class CellPort {
  public:
   virtual ~CellPort() = default;
   virtual robot::Joints joints() = 0;  // the assembling arm's joints now
   virtual MotionReport move(const MotionCommand& command) = 0;
-  virtual PointCloud scan(const ScanRequest& request) = 0;  // an empty cloud: no data
+  virtual Sweep scan(const ScanRequest& request) = 0;
   virtual void stop() = 0;
   // What only a simulated cell knows (the insertion judged on the true poses, the true error):
   // a real cell answers nothing.
