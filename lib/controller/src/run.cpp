@@ -99,8 +99,9 @@ Outcome Loop::finish(const std::string& result) {
     o_.insertion = *j, o_.success = j->success;
     if (o_.result.empty()) o_.result = o_.success ? "inserted" : "missed";
   } else if (o_.result.empty()) {
-    o_.success = true;  // a real cell's insertion motion completed; it judges the rest itself
-    o_.result = "inserted (not judged by the cell)";
+    // A cell that cannot judge the insertion is not counted a success: the motion completed,
+    // whether the part went in is the lab's to record.
+    o_.result = "insertion motion done (not judged by the cell)";
   }
   o_.log.push_back("insertion: lateral (" + fmt(o_.insertion.x_mm * 1e3) + ", " +
                    fmt(o_.insertion.y_mm * 1e3) + ") um, depth " +
