@@ -36,7 +36,9 @@ class FaultyCell : public controller::CellPort {
   }
   void stop() override { ++stops; }
   std::optional<cell::Insertion> judge() override { return sim_.judge(); }
-  std::string truth_note(const Pose& goal) override { return sim_.truth_note(goal); }
+  std::optional<Eigen::Vector2d> true_error(const Pose& goal) override {
+    return sim_.true_error(goal);
+  }
   int moves = 0, scans = 0, stops = 0, moves_after_fault = 0, scans_after_fault = 0;
   bool faulted = false;
 

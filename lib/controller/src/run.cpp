@@ -40,7 +40,7 @@ class Loop {
   bool correct_rounds(bool gated, bool outside);
   bool stages();
   void dump(const PointCloud& scan) const;
-  Outcome finish(const std::string& result);
+  Outcome finish();
   Outcome refuse(const std::string& why);
 
   CellPort& cell_;
@@ -93,12 +93,11 @@ void Loop::times() {
   o_.completion_s = o_.cell_time_s + o_.compute_s;
 }
 
-Outcome Loop::finish(const std::string& result) {
-  o_.result = result;
+Outcome Loop::finish() {
   if (const auto j = cell_.judge()) {
     o_.insertion = *j, o_.success = j->success;
-    if (o_.result.empty()) o_.result = o_.success ? "inserted" : "missed";
-  } else if (o_.result.empty()) {
+    o_.result = o_.success ? "inserted" : "missed";
+  } else {
     // A cell that cannot judge the insertion is not counted a success: the motion completed,
     // whether the part went in is the lab's to record.
     o_.result = "insertion motion done (not judged by the cell)";
@@ -127,7 +126,7 @@ Outcome Loop::run() {
     o_.log.push_back(
         std::string("proprioception only, ") + (st == Strategy::ProprioIC1 ? "IC1" : "IC2") +
         ": reach the recorded insertion pose from start " + std::to_string(o_.start + 1));
-    return move(su_.p_ins, q_ref, s_.motion) ? finish("") : refuse(why_);
+    return move(su_.p_ins, q_ref, s_.motion) ? finish() : refuse(why_);
   }
   // Laser feedback: approach (IC2), then scan, register, correct, verify; finally insert.
   Pose approach = c_.s.T_target_part_insert;
@@ -141,7 +140,7 @@ Outcome Loop::run() {
   Pose d = Pose::Identity();
   d.translation() =
       m_.T_scan_target.linear() * (c_.s.T_target_part_insert.translation() - way_.translation());
-  return shift(d, s_.motion.min_duration_s) ? finish("") : refuse(why_);
+  return shift(d, s_.motion.min_duration_s) ? finish() : refuse(why_);
 }
 
 // Waypoints from the approach toward the insertion, each reached and verified by scans: an
@@ -180,8 +179,9 @@ bool Loop::correct_rounds(bool gated, bool outside) {
   for (int round = 0; round <= s_.max_rounds; ++round, ++o_.rounds) {
     Correction corr;
     if (!scan_until_trusted(gated, outside, corr)) return false;
-    const std::string note = cell_.truth_note(way_);
-    if (!note.empty()) o_.log.push_back(note);
+    if (const auto e = cell_.true_error(way_))  // a simulation's truth, for the log only
+      o_.log.push_back("  truth (simulation only): lateral error " + fmt(e->x() * 1e3) +
+                       " um, along the axis " + fmt(e->y() * 1e3) + " um");
     o_.log.push_back("round " + std::to_string(o_.rounds + 1) + ": measured lateral error " +
                      fmt(corr.lateral_mm * 1e3) + " um, along the axis " +
                      fmt(corr.axial_mm * 1e3) + " um, axis " + fmt(corr.angle_deg) + " deg");

@@ -1,6 +1,5 @@
 // The simulated cell behind the controller's port (see sim.hpp).
 #include <algorithm>
-#include <sstream>
 
 #include "laserfit/controller/sim.hpp"
 #include "laserfit/core/rng.hpp"
@@ -48,18 +47,11 @@ std::optional<cell::Insertion> SimCell::judge() {
   return cell::check_insertion(c_.s, su_.T_world_target, *part_);
 }
 
-std::string SimCell::truth_note(const Pose& T_target_part_goal) {
-  if (!part_) return "";
+std::optional<Eigen::Vector2d> SimCell::true_error(const Pose& T_target_part_goal) {
+  if (!part_) return std::nullopt;
   const Pose goal = su_.T_world_target * T_target_part_goal;
   const Eigen::Vector3d e = goal.translation() - part_->translation(), n = goal.linear().col(2);
-  auto um = [](double mm) {
-    std::ostringstream o;
-    o.precision(4);
-    o << mm * 1e3;
-    return o.str();
-  };
-  return "  truth (simulation only): lateral error " + um((e - n * n.dot(e)).norm()) +
-         " um, along the axis " + um(n.dot(e)) + " um";
+  return Eigen::Vector2d((e - n * n.dot(e)).norm(), n.dot(e));
 }
 
 }  // namespace laserfit::controller

@@ -51,7 +51,10 @@ class CellPort {
   // What only a simulated cell knows (the insertion judged on the true poses, the true error):
   // a real cell answers nothing.
   virtual std::optional<cell::Insertion> judge() { return std::nullopt; }
-  virtual std::string truth_note(const Pose& /*T_target_part_goal*/) { return ""; }
+  // The part's true error from a goal (target frame): lateral and along its axis (mm).
+  virtual std::optional<Eigen::Vector2d> true_error(const Pose& /*T_target_part_goal*/) {
+    return std::nullopt;
+  }
 };
 
 }  // namespace laserfit::controller

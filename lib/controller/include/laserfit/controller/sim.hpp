@@ -37,7 +37,7 @@ class SimCell : public CellPort {
   Sweep scan(const ScanRequest& request) override;
   void stop() override {}
   std::optional<cell::Insertion> judge() override;
-  std::string truth_note(const Pose& T_target_part_goal) override;
+  std::optional<Eigen::Vector2d> true_error(const Pose& T_target_part_goal) override;
 
  private:
   const cell::Cell& c_;
