@@ -28,7 +28,7 @@ class FaultyCell : public controller::CellPort {
     }
     return sim_.move(c);
   }
-  controller::Sweep scan(const controller::ScanRequest& r) override {
+  controller::Sweep scan(const controller::SweepRequest& r) override {
     ++scans;
     if (faulted) ++scans_after_fault;
     if (empty_scan_ > 0 && scans >= empty_scan_) return faulted = true, controller::Sweep{};
@@ -73,7 +73,7 @@ struct Trial {
 // every line of its log equal (exact: the same seeds drive the same simulated cell).
 TEST(CellPort, ThroughThePortTheOutcomeIsSims) {
   Trial t(true);
-  controller::SimCell sim(t.c, t.su, 0, 9);
+  controller::SimCell sim(t.c, t.su, 0, 9, t.s.motion);
   FaultyCell cell(sim, 0, 0);
   const auto a = t.run(cell);
   const auto b = controller::run_insertion(t.c, t.su, controller::Strategy::Laser, 0, 9, t.s);
@@ -98,7 +98,7 @@ TEST(CellPort, ThroughThePortTheOutcomeIsSims) {
 TEST(CellPort, AFaultStopsTheLoopWithNoFurtherCommand) {
   for (int fault_move : {1, 2}) {
     Trial t;
-    controller::SimCell sim(t.c, t.su, 0, 9);
+    controller::SimCell sim(t.c, t.su, 0, 9, t.s.motion);
     FaultyCell cell(sim, fault_move, 0);
     const auto o = t.run(cell);
     EXPECT_EQ(o.result, "refused: the assembling arm reported a fault: joint 4 torque limit");
@@ -113,7 +113,7 @@ TEST(CellPort, AFaultStopsTheLoopWithNoFurtherCommand) {
 // registration: the loop stops at once.
 TEST(CellPort, AScanWithNoDataStopsTheLoop) {
   Trial t;
-  controller::SimCell sim(t.c, t.su, 0, 9);
+  controller::SimCell sim(t.c, t.su, 0, 9, t.s.motion);
   FaultyCell cell(sim, 0, 1);
   const auto o = t.run(cell);
   EXPECT_EQ(o.result, "refused: the cell returned a scan with no data");

@@ -10,7 +10,6 @@
 #include "laserfit/core/atomic_file.hpp"
 #include "laserfit/core/error.hpp"
 #include "laserfit/core/parallel.hpp"
-#include "laserfit/core/rng.hpp"
 
 namespace laserfit::ctl {
 namespace {
@@ -35,32 +34,17 @@ int run(const Options& o) {
     for (std::string x; std::getline(in, x, ',');)
       if (!x.empty()) strategies.push_back(parse_strategy(x));
   }
-  const int per_robot = int(cs.target_poses.size()) * cs.start_configs;
-  const int trials = o.trials > 0 ? o.trials : per_robot;
+  const int trials = o.trials > 0 ? o.trials : int(cs.target_poses.size()) * cs.start_configs;
   if (o.first < 0) throw Error("--first must be >= 0");
-  // Trial i: setting i mod S, start (i / S) mod N, robot instance i / (S N) (a new seeded arm
-  // pair). Everything about trial i follows from (seed, i), so a range [first, first + trials)
-  // gives the same outcomes as the same trials inside a longer run: long campaigns can be split.
-  std::map<int, std::unique_ptr<cell::Cell>> cells;
-  std::map<std::pair<int, int>, SimSetup> setups;
-  for (int i = o.first; i < o.first + trials; ++i) {
-    const int robot = i / per_robot, setting = i % int(cs.target_poses.size());
-    if (!cells.count(robot))
-      cells.emplace(robot, std::make_unique<cell::Cell>(cs, mix_seed(o.seed) + robot));
-    if (!setups.count({robot, setting}))
-      setups.emplace(std::make_pair(robot, setting),
-                     prepare_setting(*cells[robot], setting, s, o.seed + robot));
-  }
+  Campaign campaign(cs, s, o.seed);
+  for (int i = o.first; i < o.first + trials; ++i) campaign.prepare(plan_trial(cs, o.seed, i));
   std::vector<Outcome> out(trials * strategies.size());
   size_t done = 0;
   std::mutex m;
   parallel_for(out.size(), o.jobs, [&](size_t k) {
-    const int i = o.first + int(k / strategies.size());
-    const Strategy st = strategies[k % strategies.size()];
-    const int robot = i / per_robot, setting = i % int(cs.target_poses.size());
-    const int start = (i / int(cs.target_poses.size())) % cs.start_configs;
-    out[k] = run_insertion(*cells[robot], setups.at({robot, setting}), st, start,
-                           mix_seed(o.seed ^ (uint64_t(i) << 8)), s);
+    const TrialPlan t = plan_trial(cs, o.seed, o.first + int(k / strategies.size()));
+    out[k] = run_insertion(campaign.cell(t.robot), campaign.setup(t.robot, t.setting),
+                           strategies[k % strategies.size()], t.start, t.seed, s);
     std::lock_guard<std::mutex> l(m);
     ++done;
     if (!o.quiet) std::cerr << "\rsim: " << done << "/" << out.size() << std::flush;

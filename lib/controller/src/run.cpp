@@ -5,7 +5,9 @@
 #include <sstream>
 
 #include "laserfit/controller/sim.hpp"
+#include "laserfit/core/error.hpp"
 #include "laserfit/io/cloud_io.hpp"
+#include "laserfit/sensor/assemble.hpp"
 
 namespace laserfit::controller {
 namespace {
@@ -33,12 +35,14 @@ class Loop {
   Outcome run();
 
  private:
+  Outcome attempt();
   bool move(const Pose& T_baseA_flange_goal, const robot::Joints& q_ref,
             const robot::MotionSettings& ms, double* duration_s = nullptr);
   bool shift(const Pose& delta, double min_duration_s);
   bool scan_until_trusted(bool gated, bool outside, Correction& corr);
   bool correct_rounds(bool gated, bool outside);
   bool stages();
+  PointCloud sweep(const SweepRequest& req);
   void dump(const PointCloud& scan) const;
   Outcome finish();
   Outcome refuse(const std::string& why);
@@ -62,11 +66,17 @@ class Loop {
 
 bool Loop::move(const Pose& goal, const robot::Joints& q_ref, const robot::MotionSettings& ms,
                 double* duration_s) {
+  // The path from where the arm reports its flange (its joints through the nominal model, as the
+  // arm's own controller computes it), checked before it is sent.
   MotionCommand cmd;
-  cmd.T_baseA_flange_goal = goal, cmd.q_ref = q_ref, cmd.motion = ms;
+  cmd.path = robot::plan_cartesian(c_.nominal.fk(cell_.joints()), goal, ms), cmd.q_ref = q_ref;
+  if (const std::string bad = check_request(cmd, c_.nominal); !bad.empty())
+    return why_ = "not sent: " + bad, false;
   const auto t = std::chrono::steady_clock::now();
   const MotionReport r = cell_.move(cmd);
   in_cell_s_ += since(t);
+  if (const std::string bad = check_report(r, c_.nominal.limits); !bad.empty())
+    return why_ = "the assembling arm's report: " + bad, false;
   cell_s_ += r.duration_s;
   if (duration_s) *duration_s = r.duration_s;
   if (!r.ok) why_ = "the assembling arm reported a fault: " + r.reason;
@@ -119,7 +129,17 @@ Outcome Loop::refuse(const std::string& why) {  // never insert blind
   return o_;
 }
 
+// A cell that fails on a call (a lost peer, a malformed reply) throws: the trial stops there as a
+// refusal, with the stop sent, like a fault the cell reports.
 Outcome Loop::run() {
+  try {
+    return attempt();
+  } catch (const Error& e) {
+    return refuse(e.what());
+  }
+}
+
+Outcome Loop::attempt() {
   const Strategy st = o_.strategy;
   const robot::Joints& q_ref = st == Strategy::ProprioIC1 ? su_.q_taught : su_.q_ic2_ref;
   if (st == Strategy::ProprioIC1 || st == Strategy::ProprioIC2) {
@@ -209,16 +229,13 @@ bool Loop::scan_until_trusted(bool gated, bool outside, Correction& corr) {
   const auto& cs = c_.s;
   const bool orient = o_.strategy == Strategy::LaserPose;
   m_ = Measurement{};
-  ScanRequest req;  // the scene's sweep, from the taught scan pose
+  double sweep_mm = 0;  // the scene's sweep, from the taught scan pose
+  bool raised = false;
   for (int k = 0; k < s_.max_scans && !m_.ok; ++k) {
     const uint64_t seed = scan_seed(seed_, o_.scans);
-    const auto t = std::chrono::steady_clock::now();
-    const Sweep sweep = cell_.scan(req);
-    in_cell_s_ += since(t);
-    cell_s_ += sweep.duration_s;
-    const PointCloud& scan = sweep.cloud;
+    const PointCloud scan = sweep(sweep_request(c_, su_, sweep_mm, raised));
     ++o_.scans;
-    if (scan.points.empty()) return why_ = "the cell returned a scan with no data", false;
+    if (scan.points.empty()) return false;
     if (!s_.dump_dir.empty()) dump(scan);
     m_ = measure(scan, su_.target_ref, su_.part_ref, su_.T_world_target_believed,
                  c_.part_believed(cell_.joints()), cs, s_, seed, o_.log, tracked_, tracked_part_);
@@ -227,11 +244,11 @@ bool Loop::scan_until_trusted(bool gated, bool outside, Correction& corr) {
     // and then (not in the long sweep either) nearer to the scanner than its measuring range.
     const std::string not_found =
         "no trusted " + cs.scene.objects[cs.part].name + " near the target: next scan ";
-    if (m_.target_ok && !m_.ok && req.sweep_mm == 0 && cs.search_sweep_mm > 0) {
-      req.sweep_mm = cs.search_sweep_mm;
-      o_.log.push_back(not_found + "sweeps " + fmt(req.sweep_mm) + " mm");
-    } else if (m_.target_ok && !m_.ok && !req.raised && cs.search_raise_mm > 0) {
-      req.raised = true;
+    if (m_.target_ok && !m_.ok && sweep_mm == 0 && cs.search_sweep_mm > 0) {
+      sweep_mm = cs.search_sweep_mm;
+      o_.log.push_back(not_found + "sweeps " + fmt(sweep_mm) + " mm");
+    } else if (m_.target_ok && !m_.ok && !raised && cs.search_raise_mm > 0) {
+      raised = true;
       o_.log.push_back(not_found + "from " + fmt(cs.search_raise_mm) + " mm farther back");
     }
     if (!m_.ok) continue;
@@ -252,6 +269,22 @@ bool Loop::scan_until_trusted(bool gated, bool outside, Correction& corr) {
   return m_.ok;
 }
 
+// One sweep, assembled into the cloud registration takes (A's believed world frame) exactly as
+// `laserfit assemble` does; an empty cloud when the trial stops (a fault, no data, a bad report).
+PointCloud Loop::sweep(const SweepRequest& req) {
+  const auto t = std::chrono::steady_clock::now();
+  const Sweep sw = cell_.scan(req);
+  in_cell_s_ += since(t);
+  const int width = c_.s.scene.settings.sensor.points_per_profile;
+  if (!sw.fault.empty())
+    return why_ = "the sensing arm reported a fault: " + sw.fault, PointCloud{};
+  if (const std::string bad = check_report(sw, width); !bad.empty())
+    return why_ = "the cell's scan: " + bad, PointCloud{};
+  cell_s_ += sw.duration_s;
+  if (sw.profiles.count == 0) return why_ = "the cell returned a scan with no data", PointCloud{};
+  return sensor::assemble_scan(sw.profiles, sw.T_world_flange, c_.s.T_flange_sensor);
+}
+
 void Loop::dump(const PointCloud& scan) const {
   const std::string tag = "_s" + std::to_string(su_.setting), dir = s_.dump_dir + "/";
   io::write_cloud(dir + strategy_name(o_.strategy) + tag + "_start" + std::to_string(o_.start + 1) +
@@ -270,7 +303,7 @@ Outcome run_insertion(CellPort& cell, const cell::Cell& c, const SimSetup& su, S
 
 Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy, int start,
                       uint64_t seed, const ControllerSettings& s) {
-  SimCell cell(c, su, start, seed);
+  SimCell cell(c, su, start, seed, s.motion);
   return run_insertion(cell, c, su, strategy, start, seed, s);
 }
 

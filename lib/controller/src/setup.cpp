@@ -80,34 +80,64 @@ SimSetup prepare_setting(const cell::Cell& c, int k, const ControllerSettings& s
   return su;
 }
 
-PointCloud scan_cell(const cell::Cell& c, const SimSetup& su, const Pose& T_world_part_true,
-                     uint64_t seed, std::mt19937_64& g, double sweep_mm, bool raised) {
+TrialPlan plan_trial(const cell::CellSettings& cs, uint64_t seed, int i) {
+  const int S = int(cs.target_poses.size());
+  TrialPlan t;
+  t.trial = i, t.robot = i / (S * cs.start_configs), t.setting = i % S;
+  t.start = (i / S) % cs.start_configs;
+  t.seed = mix_seed(seed ^ (uint64_t(i) << 8));
+  return t;
+}
+
+void Campaign::prepare(const TrialPlan& t) {
+  if (!cells_.count(t.robot))
+    cells_.emplace(t.robot, std::make_unique<cell::Cell>(cs_, mix_seed(seed_) + t.robot));
+  if (!setups_.count({t.robot, t.setting}))
+    setups_.emplace(std::make_pair(t.robot, t.setting),
+                    prepare_setting(*cells_[t.robot], t.setting, s_, seed_ + t.robot));
+}
+
+SweepRequest sweep_request(const cell::Cell& c, const SimSetup& su, double sweep_mm, bool raised) {
+  const auto& sw = c.s.scene.settings.sweep;
+  SweepRequest r;
+  r.q_start = raised ? su.q_scan_raised : su.q_scan;
+  r.direction = sw.direction, r.length_mm = sw.length_mm, r.speed_mm_s = sw.speed_mm_s;
+  // A longer sweep starts earlier by half the extra length: the same straight motion of the
+  // sensing arm, whose (linear, mm-short) error the sweep model already neglects.
+  if (sweep_mm > sw.length_mm) r.lead_mm = (sweep_mm - sw.length_mm) / 2, r.length_mm = sweep_mm;
+  return r;
+}
+
+scan::ScanResult sweep_cell(const cell::Cell& c, const SimSetup& su, const Pose& T_world_part_true,
+                            uint64_t seed, std::mt19937_64& g, const SweepRequest& r) {
   const auto& cs = c.s;
   scan::ScanScene sc = cs.scene;
   sc.seed = seed;
   // The sensing arm's true sensor pose vs the one it believes: the scan is computed in the
   // believed frame, so the objects move by the difference.
-  const robot::Joints& q = raised ? su.q_scan_raised : su.q_scan;
-  const Pose& believed = raised ? su.T_world_sensor_raised : su.T_world_sensor_start;
+  const Pose believed = c.nominal.fk(r.q_start) * cs.T_flange_sensor;
   const Pose T_true =
-      robot::with_repeatability(c.trueS.fk(q), cs.arm_errors, g) * c.T_flange_sensor_true;
+      robot::with_repeatability(c.trueS.fk(r.q_start), cs.arm_errors, g) * c.T_flange_sensor_true;
   const Pose to_believed = believed * T_true.inverse();
-  sc.settings.sweep.T_base_sensor_start = believed;
+  auto& sw = sc.settings.sweep;
+  sw.T_base_sensor_start = believed;
+  if (r.lead_mm != 0)
+    sw.T_base_sensor_start =
+        sw.T_base_sensor_start * Eigen::Translation3d(-r.direction * r.lead_mm);
+  sw.direction = r.direction, sw.length_mm = r.length_mm, sw.speed_mm_s = r.speed_mm_s;
   sc.settings.motion.offset_sigma_mm = 0,
   sc.settings.motion.offset_sigma_deg = 0;  // the arm model has them
-  // A longer sweep starts earlier by half the extra length: the same straight motion of the
-  // sensing arm, whose (linear, mm-short) error the sweep model already neglects.
-  auto& sw = sc.settings.sweep;
-  if (sweep_mm > sw.length_mm) {
-    sw.T_base_sensor_start = sw.T_base_sensor_start *
-                             Eigen::Translation3d(-sw.direction * (sweep_mm - sw.length_mm) / 2);
-    sw.length_mm = sweep_mm;
-  }
   // Other objects of the scene stay where they are relative to the target.
   const Pose moved = su.T_world_target * cs.scene.objects[cs.target].T_base_object.inverse();
   for (auto& o : sc.objects) o.T_base_object = to_believed * moved * o.T_base_object;
   sc.objects[cs.part].T_base_object = to_believed * T_world_part_true;
-  return scan::simulate_scan(sc).cloud;
+  return scan::simulate_scan(sc);
+}
+
+PointCloud scan_cell(const cell::Cell& c, const SimSetup& su, const Pose& T_world_part_true,
+                     uint64_t seed, std::mt19937_64& g, double sweep_mm, bool raised) {
+  return sweep_cell(c, su, T_world_part_true, seed, g, sweep_request(c, su, sweep_mm, raised))
+      .cloud;
 }
 
 }  // namespace laserfit::controller

@@ -10,35 +10,46 @@ uint64_t scan_seed(uint64_t trial_seed, int n) {
   return mix_seed(trial_seed ^ (uint64_t(n) << 32));
 }
 
-SimCell::SimCell(const cell::Cell& c, const SimSetup& su, int start, uint64_t seed)
+SimCell::SimCell(const cell::Cell& c, const SimSetup& su, int start, uint64_t seed,
+                 const robot::MotionSettings& arm)
     : c_(c),
       su_(su),
       seed_(seed),
+      arm_(arm),
       g_(block_rng(seed, 0xC0, 0)),
       rep_(c.s.arm_errors),
       q_(su.q_start.at(start)) {}
 
 // The arm's own Cartesian controller runs on its nominal model (all a real controller knows);
-// where the part truly lands follows from the true arm at the joints it ends in.
+// where the part truly lands follows from the true arm at the joints it ends in. A path it would
+// not accept, or a joint limit met on the way (the Panda's reflex), is a fault.
 MotionReport SimCell::move(const MotionCommand& command) {
-  const robot::MotionResult r = robot::move_cartesian(c_.nominal, q_, command.T_baseA_flange_goal,
-                                                      command.q_ref, command.motion);
+  MotionReport out;
+  if (out.reason = check_request(command, c_.nominal); !out.reason.empty()) return out;
+  const robot::MotionResult r =
+      robot::follow_cartesian(c_.nominal, q_, command.path, command.q_ref, arm_);
   q_ = r.q;
   part_ = c_.part_true(q_, rep_, g_);
-  MotionReport out;
-  out.ok = true, out.q = q_, out.duration_s = r.duration_s;
+  out.q = q_, out.duration_s = r.duration_s;
+  if (!r.limits_ok) return out.reason = "joint position limit reached", out;
+  out.ok = true;
   return out;
 }
 
-// The sweep takes its length at the sweep speed (the sensing arm's move to the raised pose and
-// back is not counted).
-Sweep SimCell::scan(const ScanRequest& request) {
-  const Pose part = part_ ? *part_ : c_.part_believed(q_);
-  const auto& sw = c_.s.scene.settings.sweep;
+// The sweep takes its length at its speed (the sensing arm's move to its start and back is not
+// counted). The profiles are the simulator's in the sensor frame, each with the flange pose the
+// sensing arm believes (nominal kinematics, the believed hand-eye calibration).
+Sweep SimCell::scan(const SweepRequest& request) {
   Sweep out;
-  out.cloud =
-      scan_cell(c_, su_, part, scan_seed(seed_, scans_++), g_, request.sweep_mm, request.raised);
-  out.duration_s = std::max(request.sweep_mm, sw.length_mm) / sw.speed_mm_s;
+  if (out.fault = check_request(request, c_.nominal.limits); !out.fault.empty()) return out;
+  const Pose part = part_ ? *part_ : c_.part_believed(q_);
+  const scan::ScanResult r = sweep_cell(c_, su_, part, scan_seed(seed_, scans_++), g_, request);
+  out.duration_s = request.length_mm / request.speed_mm_s;
+  out.profiles.width = int(r.raw.width), out.profiles.count = int(r.raw.height);
+  out.profiles.xz.reserve(r.raw.points.size());
+  for (const auto& p : r.raw.points) out.profiles.xz.emplace_back(p.x(), p.z());
+  const Pose T_sensor_flange = c_.s.T_flange_sensor.inverse();
+  for (const Pose& T : r.T_base_sensor_nominal) out.T_world_flange.push_back(T * T_sensor_flange);
   return out;
 }
 

@@ -9,16 +9,17 @@
 
 #include "laserfit/cell/cell.hpp"
 #include "laserfit/core/cloud.hpp"
+#include "laserfit/io/profiles.hpp"
 #include "laserfit/robot/motion.hpp"
 
 namespace laserfit::controller {
 
-// A Cartesian motion of the assembling arm: the flange to `T_baseA_flange_goal` (A's base frame,
-// mm) along a straight minimum-jerk path, the elbow pulled toward `q_ref` in the null space.
+// A Cartesian motion of the assembling arm: the flange along `path` (A's base frame, mm, sampled
+// at the arm controller's rate; the loop plans it from the flange pose the arm reports), the elbow
+// pulled toward `q_ref` in the null space (the paper's IC1 / IC2 bias).
 struct MotionCommand {
-  Pose T_baseA_flange_goal = Pose::Identity();
+  robot::CartesianPath path;
   robot::Joints q_ref = robot::Joints::Zero();
-  robot::MotionSettings motion;
 };
 
 struct MotionReport {
@@ -28,25 +29,37 @@ struct MotionReport {
   double duration_s = 0;                    // the motion's duration, settling included
 };
 
-// A sweep of the sensing arm. sweep_mm > the scene's sweep: a longer sweep about the same centre
-// (a search scan); raised: from the search pose farther back along the view axis.
-struct ScanRequest {
-  double sweep_mm = 0;
-  bool raised = false;
+// A sweep of the sensing arm: to the joints `q_start` (its taught scan pose), back `lead_mm`
+// along `direction`, then `length_mm` along it at `speed_mm_s` while the scanner records.
+struct SweepRequest {
+  robot::Joints q_start = robot::Joints::Zero();  // rad
+  Eigen::Vector3d direction = {0, 1, 0};          // sensor frame, unit
+  double lead_mm = 0, length_mm = 0, speed_mm_s = 0;
 };
 
-// What a sweep returns: the cloud (an empty one: no data) and how long the sweep took (s).
+// What a sweep returns: the scanner's profiles (sensor frame: x along the line, z the depth, mm,
+// NaN = no measurement) and the flange pose the sensing arm reports for each (its base = the
+// world frame), and how long the sweep took (s). No profile: no data.
 struct Sweep {
-  PointCloud cloud;
+  std::string fault;  // why the cell could not sweep ("" when it did)
+  io::Profiles profiles;
+  std::vector<Pose> T_world_flange;
   double duration_s = 0;
 };
+
+// What is wrong with a request or a report, "" when nothing: checked before a cell acts on a
+// request and before the loop acts on a report (lengths mm, the sensing arm's limits).
+std::string check_request(const SweepRequest& r, const robot::JointLimits& limits);
+std::string check_request(const MotionCommand& m, const robot::ArmModel& arm);
+std::string check_report(const Sweep& s, int points_per_profile);
+std::string check_report(const MotionReport& m, const robot::JointLimits& limits);
 
 class CellPort {
  public:
   virtual ~CellPort() = default;
   virtual robot::Joints joints() = 0;  // the assembling arm's joints now
   virtual MotionReport move(const MotionCommand& command) = 0;
-  virtual Sweep scan(const ScanRequest& request) = 0;
+  virtual Sweep scan(const SweepRequest& request) = 0;
   virtual void stop() = 0;
   // What only a simulated cell knows (the insertion judged on the true poses, the true error):
   // a real cell answers nothing.

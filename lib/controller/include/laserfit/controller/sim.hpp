@@ -1,6 +1,9 @@
 #pragma once
 // The controller run against the simulated cell: teaching, start configurations, scans from the
 // sensing arm's true pose, and the insertion outcome judged on the true poses.
+#include <map>
+#include <memory>
+
 #include "laserfit/controller/cell_port.hpp"
 #include "laserfit/controller/controller.hpp"
 #include "laserfit/robot/error_model.hpp"
@@ -25,16 +28,46 @@ struct SimSetup {
 SimSetup prepare_setting(const cell::Cell& c, int setting, const ControllerSettings& s,
                          uint64_t seed);
 
+// Trial i of a seeded campaign: setting i mod S, start (i / S) mod N, robot instance i / (S N)
+// (a new seeded arm pair), and its own seed. Everything about trial i follows from (seed, i), so
+// a range of trials gives the same outcomes as the same trials inside a longer run.
+struct TrialPlan {
+  int trial = 0, robot = 0, setting = 0, start = 0;
+  uint64_t seed = 0;
+};
+TrialPlan plan_trial(const cell::CellSettings& cs, uint64_t campaign_seed, int trial);
+
+// The cell instances and settings a campaign's trials need, each prepared once (prepare() them
+// before the trials run in parallel; the accessors are then read-only).
+class Campaign {
+ public:
+  Campaign(const cell::CellSettings& cs, const ControllerSettings& s, uint64_t seed)
+      : cs_(cs), s_(s), seed_(seed) {}
+  void prepare(const TrialPlan& t);
+  const cell::Cell& cell(int robot) const { return *cells_.at(robot); }
+  const SimSetup& setup(int robot, int setting) const { return setups_.at({robot, setting}); }
+  uint64_t seed() const { return seed_; }
+
+ private:
+  cell::CellSettings cs_;
+  ControllerSettings s_;
+  uint64_t seed_;
+  std::map<int, std::unique_ptr<cell::Cell>> cells_;
+  std::map<std::pair<int, int>, SimSetup> setups_;
+};
+
 // The simulated cell behind the port, for one trial: the true arms (kinematic errors,
 // repeatability), the scanner simulator from the sensing arm's true pose, the insertion judged
 // on the true poses. Its noise follows from `seed`: each scan's from the seed and the number of
 // scans before it (the loop seeds its registrations the same way, see scan_seed).
 class SimCell : public CellPort {
  public:
-  SimCell(const cell::Cell& c, const SimSetup& su, int start, uint64_t seed);
+  // `arm`: the assembling arm's Cartesian controller (its null-space gain and damping).
+  SimCell(const cell::Cell& c, const SimSetup& su, int start, uint64_t seed,
+          const robot::MotionSettings& arm = {});
   robot::Joints joints() override { return q_; }
   MotionReport move(const MotionCommand& command) override;
-  Sweep scan(const ScanRequest& request) override;
+  Sweep scan(const SweepRequest& request) override;
   void stop() override {}
   std::optional<cell::Insertion> judge() override;
   std::optional<Eigen::Vector2d> true_error(const Pose& T_target_part_goal) override;
@@ -43,6 +76,7 @@ class SimCell : public CellPort {
   const cell::Cell& c_;
   const SimSetup& su_;
   uint64_t seed_;
+  robot::MotionSettings arm_;
   std::mt19937_64 g_;
   robot::Repeatability rep_;
   robot::Joints q_;
@@ -79,10 +113,17 @@ Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy
                       uint64_t seed, const ControllerSettings& s);
 io::Json outcome_json(const Outcome& o);
 
-// A scan of the cell as it truly is, in the frame the sensing arm believes (what the real sensor
-// delivers): the sensing arm at q_scan (its repeatability drawn from g), the part where it is.
-// sweep_mm > the scene's sweep: a longer sweep about the same centre (a search scan); raised:
-// from the sensing arm's raised search pose (q_scan_raised).
+// The sweep the loop asks for: the scene's, from the taught scan pose; sweep_mm > the scene's
+// sweep: a longer one about the same centre (a search scan); raised: from the sensing arm's
+// raised search pose (q_scan_raised).
+SweepRequest sweep_request(const cell::Cell& c, const SimSetup& su, double sweep_mm = 0,
+                           bool raised = false);
+
+// A sweep of the cell as it truly is, in the frame the sensing arm believes (what the real sensor
+// delivers): the sensing arm at r.q_start (its repeatability drawn from g), the part where it is.
+scan::ScanResult sweep_cell(const cell::Cell& c, const SimSetup& su, const Pose& T_world_part_true,
+                            uint64_t seed, std::mt19937_64& g, const SweepRequest& r);
+// Its cloud, for the sweep_request(c, su, sweep_mm, raised).
 PointCloud scan_cell(const cell::Cell& c, const SimSetup& su, const Pose& T_world_part_true,
                      uint64_t seed, std::mt19937_64& g, double sweep_mm = 0, bool raised = false);
 

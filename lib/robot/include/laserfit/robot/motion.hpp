@@ -27,6 +27,31 @@ struct MotionResult {
   double duration_s = 0, nominal_error_mm = 0;
 };
 
+// The reference a Cartesian motion follows, sampled at the controller's rate: sample i is the
+// flange pose (base frame) at t = (i + 1) / rate_hz; the last ones hold the goal (settling).
+// Translation and unit quaternion (w, x, y, z) as the path is interpolated, so that the samples
+// cross a wire unchanged.
+struct CartesianPath {
+  double rate_hz = 1000;
+  std::vector<Eigen::Vector3d> t;     // mm
+  std::vector<Eigen::Quaterniond> q;  // unit
+  size_t size() const { return t.size(); }
+  double duration_s() const { return double(t.size()) / rate_hz; }
+  Pose sample(size_t i) const;
+};
+
+// The straight minimum-jerk path from `start` to `goal` (s: rate, speed, minimum duration,
+// settling).
+CartesianPath plan_cartesian(const Pose& T_base_flange_start, const Pose& T_base_flange_goal,
+                             const MotionSettings& s = {});
+
+// The arm's controller following `path` from the joints `q_start` on its model `nominal` (s: the
+// null-space gain and damping; the path carries its own rate).
+MotionResult follow_cartesian(const ArmModel& nominal, const Joints& q_start,
+                              const CartesianPath& path, const Joints& q_ref,
+                              const MotionSettings& s = {});
+
+// plan_cartesian from where the model puts the flange, then follow_cartesian.
 MotionResult move_cartesian(const ArmModel& nominal, const Joints& q_start,
                             const Pose& T_base_flange_goal, const Joints& q_ref,
                             const MotionSettings& s = {});
