@@ -76,10 +76,10 @@ bool Loop::move(const Pose& goal, const robot::Joints& q_ref, const robot::Motio
   const MotionReport r = cell_.move(cmd);
   in_cell_s_ += since(t);
   if (const std::string bad = check_report(r, c_.nominal.limits); !bad.empty())
-    return why_ = "the assembling arm's report: " + bad, false;
+    return o_.cell_fault = true, why_ = "the assembling arm's report: " + bad, false;
   cell_s_ += r.duration_s;
   if (duration_s) *duration_s = r.duration_s;
-  if (!r.ok) why_ = "the assembling arm reported a fault: " + r.reason;
+  if (!r.ok) o_.cell_fault = true, why_ = "the assembling arm reported a fault: " + r.reason;
   return r.ok;
 }
 
@@ -135,6 +135,7 @@ Outcome Loop::run() {
   try {
     return attempt();
   } catch (const Error& e) {
+    o_.cell_fault = true;
     return refuse(e.what());
   }
 }
@@ -277,11 +278,13 @@ PointCloud Loop::sweep(const SweepRequest& req) {
   in_cell_s_ += since(t);
   const int width = c_.s.scene.settings.sensor.points_per_profile;
   if (!sw.fault.empty())
-    return why_ = "the sensing arm reported a fault: " + sw.fault, PointCloud{};
+    return o_.cell_fault = true, why_ = "the sensing arm reported a fault: " + sw.fault,
+           PointCloud{};
   if (const std::string bad = check_report(sw, width); !bad.empty())
-    return why_ = "the cell's scan: " + bad, PointCloud{};
+    return o_.cell_fault = true, why_ = "the cell's scan: " + bad, PointCloud{};
   cell_s_ += sw.duration_s;
-  if (sw.profiles.count == 0) return why_ = "the cell returned a scan with no data", PointCloud{};
+  if (sw.profiles.count == 0)
+    return o_.cell_fault = true, why_ = "the cell returned a scan with no data", PointCloud{};
   return sensor::assemble_scan(sw.profiles, sw.T_world_flange, c_.s.T_flange_sensor);
 }
 
@@ -323,6 +326,7 @@ io::Json outcome_json(const Outcome& o) {
           {"cell_time_s", o.cell_time_s},
           {"compute_s", o.compute_s},
           {"completion_s", o.completion_s},
+          {"cell_fault", o.cell_fault},
           {"log", o.log}};
 }
 

@@ -99,7 +99,8 @@ struct Outcome {
   int setting = 0, start = 0;
   uint64_t seed = 0;
   bool success = false;
-  std::string result;  // inserted | missed | refused: <why>
+  std::string result;       // inserted | missed | refused: <why>
+  bool cell_fault = false;  // the cell stopped the trial: a fault, no data, a lost or lying peer
   cell::Insertion insertion;
   int scans = 0, rounds = 0;
   double time_s = 0;  // wall-clock time of the whole trial, the simulation included
