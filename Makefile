@@ -18,7 +18,7 @@ DEB_PACKAGES := cmake ninja-build ccache g++ pkg-config \
   libocct-foundation-dev libyaml-cpp-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev \
   nlohmann-json3-dev libcli11-dev libboost-dev libvtk9-dev xvfb xauth \
   pybind11-dev python3-dev python3-numpy python3-pytest python3-open3d \
-  libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc python3-grpcio \
+  libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc python3-grpcio openssl \
   python3-protobuf
 # The sanitizer and fuzzing build (make test-asan, make fuzz): clang with libFuzzer.
 FUZZ_PACKAGES := clang libfuzzer-14-dev libclang-rt-14-dev llvm python3

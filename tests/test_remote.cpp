@@ -2,6 +2,9 @@
 // in this process: it gives what `sim` gives, and every fault the server injects stops the loop
 // with the stop sent and no motion command after the fault.
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
 
 #include "laserfit/controller/sim.hpp"
 #include "laserfit/core/error.hpp"
@@ -41,7 +44,7 @@ struct Bench {
     return std::make_unique<remote::CellSimServer>(cs, s, ss);
   }
   remote::ClientSettings client(int port) const {
-    return {"127.0.0.1:" + std::to_string(port), 0.5, ""};
+    return {"127.0.0.1:" + std::to_string(port), 10, ""};  // ASan builds are slow
   }
 };
 }  // namespace
@@ -86,9 +89,9 @@ TEST(Remote, EveryInjectedFaultStopsWithNoCommandAfterIt) {
       {"stall@3", "Sweep: no answer in time (timeout)", 1, 0},
       {"disconnect@3", "Sweep: connection lost", 1, 0},
   };
+  Bench u;  // the client's model and taught poses, prepared once
   for (const auto& c : cases) {
     SCOPED_TRACE(c.inject);
-    Bench u;
     auto server = u.serve({c.inject});
     remote::RemoteCell cell(u.client(server->port()));
     cell.begin_trial(1, 0);
@@ -112,4 +115,32 @@ TEST(Remote, NoPeerAndBadInjectionAreOneError) {
   EXPECT_THROW(remote::RemoteCell(u.client(1)), Error);
   EXPECT_THROW(remote::parse_injection("explode@1"), Error);
   EXPECT_THROW(remote::parse_injection("stall@0"), Error);
+}
+
+// With a certificate the channel is TLS: a client that trusts it is served, a plaintext client
+// is not (it times out on Hello). The certificate is made here (openssl, for 127.0.0.1).
+TEST(Remote, TlsWhenACertificateIsGiven) {
+  const std::string dir = ::testing::TempDir() + "laserfit_tls_" + std::to_string(::getpid());
+  ASSERT_EQ(std::system(("mkdir -p " + dir +
+                         " && openssl req -x509 -newkey rsa:2048 -nodes "
+                         "-keyout " +
+                         dir + "/key.pem -out " + dir +
+                         "/cert.pem -days 1 "
+                         "-subj /CN=localhost -addext subjectAltName=IP:127.0.0.1 2>/dev/null")
+                            .c_str()),
+            0);
+  Bench u;
+  remote::ServerSettings ss;
+  ss.listen = "127.0.0.1:0", ss.tls_cert = dir + "/cert.pem", ss.tls_key = dir + "/key.pem";
+  remote::CellSimServer server(u.cs, u.s, ss);
+  auto c = u.client(server.port());
+  c.tls_ca = dir + "/cert.pem";
+  remote::RemoteCell cell(c);
+  cell.begin_trial(1, 0);
+  EXPECT_TRUE(cell.joints().allFinite());
+  auto plain = u.client(server.port());
+  plain.timeout_s = 1;
+  EXPECT_THROW(remote::RemoteCell{plain}, Error);
+  ss.tls_key.clear();  // a certificate without its key: one error
+  EXPECT_THROW(remote::CellSimServer(u.cs, u.s, ss), Error);
 }

@@ -3,8 +3,6 @@
 #include <grpcpp/grpcpp.h>
 
 #include <chrono>
-#include <fstream>
-#include <sstream>
 
 #include "laserfit/cell/v1/cell.grpc.pb.h"
 #include "laserfit/core/error.hpp"
@@ -14,18 +12,6 @@
 namespace laserfit::remote {
 
 namespace pb = laserfit::cell::v1;
-
-namespace {
-
-std::string read_pem(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot read the TLS certificate");
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-}  // namespace
 
 struct RemoteCell::Impl {
   ClientSettings s;
@@ -73,7 +59,7 @@ RemoteCell::RemoteCell(const ClientSettings& s) : impl_(std::make_unique<Impl>()
   std::shared_ptr<grpc::ChannelCredentials> creds = grpc::InsecureChannelCredentials();
   if (!s.tls_ca.empty()) {
     grpc::SslCredentialsOptions o;
-    o.pem_root_certs = read_pem(s.tls_ca);
+    o.pem_root_certs = wire::read_pem(s.tls_ca);
     creds = grpc::SslCredentials(o);
   }
   grpc::ChannelArguments args;
@@ -103,7 +89,8 @@ std::pair<int, int> RemoteCell::begin_trial(uint64_t campaign_seed, int trial) {
   pb::TrialRequest req;
   req.set_campaign_seed(campaign_seed), req.set_trial(uint32_t(trial));
   pb::TrialReply rep;
-  m.check(m.sim->BeginTrial(m.context().get(), req, &rep), "BeginTrial");
+  // The reset prepares the trial's cell (teaching, references): allow it time.
+  m.check(m.sim->BeginTrial(m.context(120).get(), req, &rep), "BeginTrial");
   return {int(rep.setting()), int(rep.start())};
 }
 

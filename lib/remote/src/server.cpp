@@ -5,9 +5,7 @@
 
 #include <grpcpp/grpcpp.h>
 
-#include <fstream>
 #include <mutex>
-#include <sstream>
 #include <thread>
 
 #include "laserfit/cell/v1/cell.grpc.pb.h"
@@ -58,18 +56,6 @@ std::string injection_kinds() {
     s += (s.empty() ? "" : ", ") + std::string(name);
   return s;
 }
-
-namespace {
-
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot read");
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-}  // namespace
 
 // What the two services share: the campaign's cells, the trial's simulated cell, the counters.
 struct State {
@@ -269,7 +255,7 @@ CellSimServer::CellSimServer(const cell::CellSettings& cs, const controller::Con
   std::shared_ptr<grpc::ServerCredentials> creds = grpc::InsecureServerCredentials();
   if (!ss.tls_cert.empty()) {
     grpc::SslServerCredentialsOptions o;
-    o.pem_key_cert_pairs.push_back({read_file(ss.tls_key), read_file(ss.tls_cert)});
+    o.pem_key_cert_pairs.push_back({wire::read_pem(ss.tls_key), wire::read_pem(ss.tls_cert)});
     creds = grpc::SslServerCredentials(o);
   }
   grpc::ServerBuilder b;

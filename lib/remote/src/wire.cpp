@@ -1,6 +1,8 @@
 #include "wire.hpp"
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 #include "laserfit/core/error.hpp"
 
@@ -18,6 +20,13 @@ bool finite(const google::protobuf::RepeatedField<double>& v) {
 }
 
 }  // namespace
+
+std::string read_pem(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  if (!(in && s << in.rdbuf())) throw Error(path + ": cannot read the TLS certificate or key");
+  return s.str();
+}
 
 void put(const Pose& T, pb::Pose* m) {
   m->clear_m();

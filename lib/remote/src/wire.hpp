@@ -9,6 +9,9 @@ namespace laserfit::remote::wire {
 
 namespace pb = laserfit::cell::v1;
 
+// A TLS certificate or key (PEM); throws laserfit::Error naming the file.
+std::string read_pem(const std::string& path);
+
 void put(const Pose& T, pb::Pose* m);
 Pose get(const pb::Pose& m, const std::string& what);
 void put(const robot::Joints& q, pb::Joints* m);
