@@ -93,7 +93,9 @@ TEST(Remote, EveryInjectedFaultStopsWithNoCommandAfterIt) {
   for (const auto& c : cases) {
     SCOPED_TRACE(c.inject);
     auto server = u.serve({c.inject});
-    remote::RemoteCell cell(u.client(server->port()));
+    auto settings = u.client(server->port());
+    if (c.inject.rfind("stall", 0) == 0) settings.timeout_s = 3;  // what the stall waits for
+    remote::RemoteCell cell(settings);
     cell.begin_trial(1, 0);
     const auto o = u.run(cell);
     EXPECT_TRUE(o.cell_fault);
@@ -112,7 +114,9 @@ TEST(Remote, EveryInjectedFaultStopsWithNoCommandAfterIt) {
 // A peer that is not there, or a bad injection text: one error naming it.
 TEST(Remote, NoPeerAndBadInjectionAreOneError) {
   Bench u;
-  EXPECT_THROW(remote::RemoteCell(u.client(1)), Error);
+  auto nobody = u.client(1);
+  nobody.timeout_s = 1;
+  EXPECT_THROW(remote::RemoteCell{nobody}, controller::CellFailure);
   EXPECT_THROW(remote::parse_injection("explode@1"), Error);
   EXPECT_THROW(remote::parse_injection("stall@0"), Error);
 }

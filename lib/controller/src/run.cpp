@@ -130,12 +130,14 @@ Outcome Loop::refuse(const std::string& why) {  // never insert blind
 }
 
 // A cell that fails on a call (a lost peer, a malformed reply) throws: the trial stops there as a
-// refusal, with the stop sent, like a fault the cell reports.
+// refusal, with the stop sent, like a fault the cell reports. Any other error is refused too.
 Outcome Loop::run() {
   try {
     return attempt();
-  } catch (const Error& e) {
+  } catch (const CellFailure& e) {
     o_.cell_fault = true;
+    return refuse(e.what());
+  } catch (const Error& e) {
     return refuse(e.what());
   }
 }

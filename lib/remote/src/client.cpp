@@ -31,7 +31,7 @@ struct RemoteCell::Impl {
   // One line naming the peer; the cell is not called again.
   [[noreturn]] void fail(const std::string& call, const std::string& problem) {
     lost = true;
-    throw Error("cell " + s.endpoint + ": " + call + ": " + problem);
+    throw controller::CellFailure("cell " + s.endpoint + ": " + call + ": " + problem);
   }
   void check(const grpc::Status& st, const std::string& call) {
     if (lost) fail(call, "not called after an earlier failure");

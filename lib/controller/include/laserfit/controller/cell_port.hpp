@@ -9,6 +9,7 @@
 
 #include "laserfit/cell/cell.hpp"
 #include "laserfit/core/cloud.hpp"
+#include "laserfit/core/error.hpp"
 #include "laserfit/io/profiles.hpp"
 #include "laserfit/robot/motion.hpp"
 
@@ -53,6 +54,13 @@ std::string check_request(const SweepRequest& r, const robot::JointLimits& limit
 std::string check_request(const MotionCommand& m, const robot::ArmModel& arm);
 std::string check_report(const Sweep& s, int points_per_profile);
 std::string check_report(const MotionReport& m, const robot::JointLimits& limits);
+
+// What a cell's call throws when the cell failed on it (a lost peer, a timeout, a malformed
+// reply): the loop ends the trial as a cell fault. Any other laserfit::Error is the loop's own
+// refusal.
+struct CellFailure : Error {
+  using Error::Error;
+};
 
 class CellPort {
  public:
