@@ -57,6 +57,17 @@ std::string injection_kinds() {
   return s;
 }
 
+// A request read through wire::get; a malformed one is INVALID_ARGUMENT with the reason.
+template <class T, class F>
+Status read(F get, T& out) {
+  try {
+    out = get();
+    return Status::OK;
+  } catch (const Error& e) {
+    return Status(StatusCode::INVALID_ARGUMENT, e.what());
+  }
+}
+
 // What the two services share: the campaign's cells, the trial's simulated cell, the counters.
 struct State {
   cell::CellSettings cs;
@@ -137,11 +148,7 @@ Status CellService::Execute(ServerContext*, const pb::Trajectory* req, pb::Motio
   std::lock_guard<std::mutex> l(st_.m);
   if (Status e = st_.enter(); !e.ok()) return e;
   controller::MotionCommand cmd;
-  try {
-    cmd = wire::get(*req);
-  } catch (const Error& e) {
-    return Status(StatusCode::INVALID_ARGUMENT, e.what());
-  }
+  if (Status e = read([&] { return wire::get(*req); }, cmd); !e.ok()) return e;
   ++st_.moves;
   controller::MotionReport r;
   if (st_.fault(FaultKind::motion_fault, st_.moves)) {  // the arm stops halfway: a reflex
@@ -162,11 +169,7 @@ Status CellService::Sweep(ServerContext* ctx, const pb::SweepRequest* req,
   std::lock_guard<std::mutex> l(st_.m);
   if (Status e = st_.enter(); !e.ok()) return e;
   controller::SweepRequest r;
-  try {
-    r = wire::get(*req);
-  } catch (const Error& e) {
-    return Status(StatusCode::INVALID_ARGUMENT, e.what());
-  }
+  if (Status e = read([&] { return wire::get(*req); }, r); !e.ok()) return e;
   ++st_.sweeps;
   controller::Sweep sw = st_.sim->scan(r);
   const bool empty = st_.fault(FaultKind::empty_sweep, st_.sweeps);
@@ -213,11 +216,8 @@ class SimulationService final : public pb::Simulation::Service {
     if (!st_.sim) return Status(StatusCode::FAILED_PRECONDITION, "no trial begun");
     if (req->has_t_target_part_goal()) {
       Pose goal;
-      try {
-        goal = wire::get(req->t_target_part_goal(), "judge request");
-      } catch (const Error& e) {
-        return Status(StatusCode::INVALID_ARGUMENT, e.what());
-      }
+      const auto get = [&] { return wire::get(req->t_target_part_goal(), "judge request"); };
+      if (Status e = read(get, goal); !e.ok()) return e;
       const auto e = st_.sim->true_error(goal);
       rep->set_moved(bool(e));
       if (e) rep->set_lateral_error_mm(e->x()), rep->set_axial_error_mm(e->y());
@@ -241,6 +241,7 @@ struct CellSimServer::Impl {
   SimulationService sim{st};
   std::unique_ptr<grpc::Server> server;
   int port = 0;
+  std::thread disconnect;  // the default disconnect's shutdown, joined before the server goes
 };
 
 CellSimServer::CellSimServer(const cell::CellSettings& cs, const controller::ControllerSettings& s,
@@ -249,7 +250,9 @@ CellSimServer::CellSimServer(const cell::CellSettings& cs, const controller::Con
   auto& m = *impl_;
   m.st.cs = cs, m.st.s = s, m.st.ss = ss;
   if (!m.st.ss.on_disconnect)
-    m.st.ss.on_disconnect = [this] { std::thread([this] { shutdown(); }).detach(); };
+    m.st.ss.on_disconnect = [this] {
+      if (!impl_->disconnect.joinable()) impl_->disconnect = std::thread([this] { shutdown(); });
+    };
   if (ss.tls_cert.empty() != ss.tls_key.empty())
     throw Error("TLS needs both a certificate and its key (--tls-cert, --tls-key)");
   std::shared_ptr<grpc::ServerCredentials> creds = grpc::InsecureServerCredentials();
@@ -266,7 +269,10 @@ CellSimServer::CellSimServer(const cell::CellSettings& cs, const controller::Con
   if (!m.server || m.port == 0) throw Error(ss.listen + ": cannot listen there");
 }
 
-CellSimServer::~CellSimServer() { shutdown(); }
+CellSimServer::~CellSimServer() {
+  shutdown();
+  if (impl_->disconnect.joinable()) impl_->disconnect.join();
+}
 int CellSimServer::port() const { return impl_->port; }
 
 CellSimServer::Counts CellSimServer::counts() const {
