@@ -188,6 +188,30 @@ TEST(HeaderCheck, RefusesImplausibleHeadersUpFront) {
                    "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
                    "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n");
   EXPECT_NO_THROW(io::check_mesh_header(dir / "a.stl", ".stl", 50'000'000));
+  // OFF: assimp allocates its vertex and face arrays from the counts before reading a line.
+  // Prefixes, comments and the n-dimension are skipped as assimp skips them.
+  const std::string cube = "4 0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 2 3\n";
+  test::write_text(dir / "ok.off", "# a comment\nCOFF\n# another\n4 2 0\n" + cube);
+  EXPECT_NO_THROW(io::check_mesh_header(dir / "ok.off", ".off", 50'000'000));
+  test::write_text(dir / "dim.off", "nOFF 3\n4 2 0\n" + cube);
+  EXPECT_NO_THROW(io::check_mesh_header(dir / "dim.off", ".off", 50'000'000));
+  const std::pair<std::string, std::string> bad[] = {
+      {"OFF\n4 4222222222222220 1 3\n" + cube,
+       "header claims 4222222222222220 faces, more than the limit of 50000000"},
+      {"OFF 90000 2 0\n" + cube,  // a flipped digit in the vertex count
+       "truncated: the OFF header announces 90000 vertices and 2 faces, one line each, in a file "
+       "of 56 bytes"},
+      {"nOFF 3 60000000 2 0\n",
+       "header claims 60000000 vertices, more than the limit of 50000000"}};
+  for (const auto& [text, why] : bad) {
+    test::write_text(dir / "bad.off", text);
+    try {
+      io::check_mesh_header(dir / "bad.off", ".off", 50'000'000);
+      ADD_FAILURE() << "accepted " << text.substr(0, 20);
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()), (dir / "bad.off") + ": " + why);
+    }
+  }
 }
 
 TEST(Json, PoseRoundTrip) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "laserfit/core/error.hpp"
+#include "off_header.hpp"
 
 namespace laserfit::io {
 namespace {
@@ -217,6 +218,7 @@ void check_cloud_header(const std::string& path, const std::string& ext) {
 void check_mesh_header(const std::string& path, const std::string& ext, size_t max_elements) {
   const size_t size = std::filesystem::file_size(path);
   if (ext == ".ply") return check_ply(path, size, max_elements, "vertices or faces");
+  if (ext == ".off") return check_off_header(path, size, max_elements);
   if (ext != ".stl") return;
   std::ifstream in(path, std::ios::binary);
   char head[84] = {};

@@ -15,8 +15,9 @@ constexpr size_t kMaxCloudPoints = 200'000'000;  // a 2048-point scanner's 100 0
 void check_cloud_header(const std::string& path, const std::string& ext);
 
 // The same checks for the mesh formats whose headers announce counts (PLY; binary STL: 80-byte
-// header, triangle count, 50 bytes a triangle), before a mesh parser is started: a claimed 10^9
-// triangles is refused here rather than attempted. `max_elements` bounds every count.
+// header, triangle count, 50 bytes a triangle; OFF: vertex and face counts, a line each), before
+// a mesh parser is started: a claimed 10^9 triangles is refused here rather than attempted.
+// `max_elements` bounds every count.
 void check_mesh_header(const std::string& path, const std::string& ext, size_t max_elements);
 
 }  // namespace laserfit::io
