@@ -5,6 +5,8 @@
 
 #include <random>
 
+#include <pcl/filters/uniform_sampling.h>
+
 #include "pcl_types.hpp"
 
 using namespace laserfit::registration;
@@ -168,4 +170,39 @@ TEST(Search, GridWithinRadiusEqualsTheKdTree) {
   const std::vector<Eigen::Vector3f> far = {{0, 0, 0}, {1e6f, 0, 0}};
   const std::vector<Eigen::Vector3f> at = {{0, 0, 0.0005f}, {1e6f, 0.002f, 0}};
   EXPECT_EQ(within_radius(far, at, 0.001), (std::vector<char>{1, 0}));
+}
+
+// uniform_sample keeps the points pcl::UniformSampling keeps, in its order, bit for bit: random
+// points (with NaNs, negative coordinates), points on a lattice (ties to the voxel centre, points
+// on voxel borders), voxels from far below to above the points' spacing. Tolerance: none.
+TEST(Search, UniformSampleEqualsPcl) {
+  auto lattice = random_cloud(0, 1, false);
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 40; ++j)
+      for (const float z : {-0.25f, 0.f, 0.125f}) {
+        PointT p;
+        p.x = 0.05f * float(i) - 1.f, p.y = 0.025f * float(j) - 0.5f, p.z = z;
+        lattice->push_back(p);
+      }
+  for (const auto& cloud : {random_cloud(20000, 21, true), lattice})
+    for (const double voxel : {0.0005, 0.01, 0.05, 0.1, 0.37, 5.0}) {
+      SCOPED_TRACE(voxel);
+      laserfit::PointCloud c;
+      PclCloud::Ptr finite(new PclCloud);
+      for (const auto& p : *cloud) {
+        c.points.push_back(p.getVector3fMap());
+        if (p.getVector3fMap().allFinite()) finite->push_back(p);
+      }
+      pcl::UniformSampling<PointT> us;
+      us.setInputCloud(finite);
+      us.setRadiusSearch(voxel);
+      PclCloud expected;
+      us.filter(expected);
+      const auto mine = to_pcl(c, uniform_sample(c.points, voxel));
+      ASSERT_EQ(mine->size(), expected.size());
+      for (size_t i = 0; i < expected.size(); ++i)
+        ASSERT_EQ(Eigen::Vector3f(mine->at(i).getVector3fMap()),
+                  Eigen::Vector3f(expected[i].getVector3fMap()))
+            << i;
+    }
 }

@@ -57,6 +57,11 @@ std::vector<char> within_radius_kdtree(const std::vector<Eigen::Vector3f>& point
 
 // Finite points only (NaN = no measurement); normals copied when present.
 PclCloud::Ptr to_pcl(const PointCloud& c);
+// The points at `at`, in that order; normals copied when present.
+PclCloud::Ptr to_pcl(const PointCloud& c, const std::vector<size_t>& at);
+// The indices of the finite points pcl::UniformSampling keeps at `voxel` (mm), in its output
+// order (uniform_sample.cpp).
+std::vector<size_t> uniform_sample(const std::vector<Eigen::Vector3f>& points, double voxel);
 
 inline Eigen::Matrix4f to_matrix4f(const Pose& T) { return T.matrix().cast<float>(); }
 inline Pose from_matrix4f(const Eigen::Matrix4f& M) {

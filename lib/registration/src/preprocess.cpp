@@ -3,7 +3,6 @@
 
 #include <pcl/features/normal_3d_omp.h>
 #include <pcl/filters/statistical_outlier_removal.h>
-#include <pcl/filters/uniform_sampling.h>
 #include <pcl/filters/voxel_grid.h>
 
 #include <algorithm>
@@ -69,12 +68,9 @@ PclCloud::Ptr with_normals(const PclCloud::Ptr& cloud, const PclCloud::Ptr& surf
   return out;
 }
 
-PclCloud::Ptr sample_and_filter(const PclCloud::Ptr& c, const PreprocessSettings& s, double voxel) {
-  pcl::UniformSampling<PointT> us;  // keeps the input point nearest each voxel centre
-  us.setInputCloud(c);
-  us.setRadiusSearch(voxel);
-  PclCloud::Ptr d(new PclCloud);
-  us.filter(*d);
+PclCloud::Ptr sample_and_filter(const PointCloud& c, const PreprocessSettings& s, double voxel) {
+  // The input point nearest each voxel centre (pcl::UniformSampling's choice and order).
+  PclCloud::Ptr d = to_pcl(c, uniform_sample(c.points, voxel));
   if (s.outlier_std > 0 && d->size() > size_t(s.outlier_neighbours)) {
     pcl::StatisticalOutlierRemoval<PointT> sor;
     sor.setInputCloud(d);
@@ -126,9 +122,9 @@ size_t remove_mixed_pixels(PointCloud& c, double factor) {
 }
 
 PclCloud::Ptr prepare(const PointCloud& in, const PreprocessSettings& s, double voxel) {
-  PclCloud::Ptr c = to_pcl(in);
-  if (c->empty()) throw Error("cloud has no finite points");
-  const PclCloud::Ptr d = sample_and_filter(c, s, voxel);
+  if (std::none_of(in.points.begin(), in.points.end(), [](auto& p) { return p.allFinite(); }))
+    throw Error("cloud has no finite points");
+  const PclCloud::Ptr d = sample_and_filter(in, s, voxel);
   if (d->size() < 10) throw Error("fewer than 10 points left after filtering and downsampling");
   const PclCloud::Ptr n = with_normals(d, d, s.normal_radius_vox * voxel, s, in.has_normals());
   if (n->size() < 10) throw Error("fewer than 10 points with normals after preprocessing");

@@ -14,7 +14,7 @@ std::vector<PointCloud> segment_clusters(const PointCloud& scan, double voxel_mm
   PreprocessSettings pre;
   pre.outlier_std = 2.0;
   // Downsampled and filtered as for registration, without normals: clustering needs none.
-  const PclCloud::Ptr cloud = sample_and_filter(to_pcl(scan), pre, voxel_mm);
+  const PclCloud::Ptr cloud = sample_and_filter(scan, pre, voxel_mm);
   Tree::Ptr tree(new Tree);
   tree->setInputCloud(cloud);
   pcl::EuclideanClusterExtraction<PointT> ec;

@@ -12,7 +12,7 @@ namespace laserfit::registration {
 // within `radius`, points without one dropped, oriented towards the viewpoint (s.use_viewpoint)
 // or to the side of the normal each point carried (keep_side). coarser: the voxel-grid cloud
 // of the RANSAC stage with normals from the fine cloud.
-PclCloud::Ptr sample_and_filter(const PclCloud::Ptr& c, const PreprocessSettings& s, double voxel);
+PclCloud::Ptr sample_and_filter(const PointCloud& c, const PreprocessSettings& s, double voxel);
 PclCloud::Ptr with_normals(const PclCloud::Ptr& cloud, const PclCloud::Ptr& surface, double radius,
                            const PreprocessSettings& s, bool keep_side);
 PclCloud::Ptr coarser(const PclCloud::Ptr& fine, double cvox, const PreprocessSettings& s,
