@@ -206,3 +206,42 @@ TEST(Search, UniformSampleEqualsPcl) {
             << i;
     }
 }
+
+// The bounded nearest_batch (match's gate) answers exactly as the unbounded one wherever the
+// nearest point is within the bound, and nothing elsewhere: random points, a lattice (equally near
+// points: the same one of them must be chosen) and a query exactly at the bound. Tolerance: none.
+TEST(Search, BoundedNearestEqualsUnboundedWithinTheBound) {
+  auto lattice = random_cloud(0, 1, false);
+  for (int i = 0; i < 30; ++i)
+    for (int j = 0; j < 30; ++j) {
+      PointT p;
+      p.x = 0.125f * float(i), p.y = 0.125f * float(j), p.z = 0;
+      lattice->push_back(p);
+    }
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<float> u(-1.f, 4.f);
+  std::vector<Eigen::Vector3f> qs;
+  for (int i = 0; i < 3000; ++i) qs.emplace_back(u(rng), u(rng), 0.1f * u(rng));
+  for (int i = 0; i < 200; ++i)  // midway between lattice points: ties
+    qs.emplace_back(0.0625f * float(2 * (i % 29) + 1), 0.125f * float(i % 7), 0.f);
+  qs.emplace_back(0.f, 0.f, 0.25f);  // exactly at the bound 0.0625 mm^2 from the lattice's corner
+  for (const auto& cloud : {random_cloud(4000, 30, true), lattice}) {
+    Tree t;
+    t.setInputCloud(cloud);
+    std::vector<int> all, within;
+    std::vector<float> d_all, d_within;
+    t.nearest_batch(qs, all, d_all);
+    for (const float bound : {0.0625f, 0.01f, 1.f}) {
+      SCOPED_TRACE(bound);
+      t.nearest_batch(qs, within, d_within, bound);
+      for (size_t i = 0; i < qs.size(); ++i) {
+        if (d_all[i] <= bound) {
+          ASSERT_EQ(within[i], all[i]) << i;
+          ASSERT_EQ(d_within[i], d_all[i]) << i;
+        } else {
+          ASSERT_EQ(within[i], -1) << i;
+        }
+      }
+    }
+  }
+}

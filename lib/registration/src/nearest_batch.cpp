@@ -2,6 +2,8 @@
 // flann::Index's OpenMP region per call; batched nearest-neighbour and within-radius queries.
 #include <flann/flann.hpp>
 
+#include <cmath>
+
 #include "pcl_types.hpp"
 
 namespace laserfit::registration {
@@ -125,7 +127,7 @@ int Tree::radiusSearch(const PointT& p, double radius, pcl::Indices& idx, std::v
 }
 
 void Tree::nearest_batch(const std::vector<Eigen::Vector3f>& queries, std::vector<int>& idx,
-                         std::vector<float>& d2) const {
+                         std::vector<float>& d2, float max_d2) const {
   idx.assign(queries.size(), -1);
   d2.assign(queries.size(), std::numeric_limits<float>::infinity());
   const Direct* b = direct();
@@ -139,8 +141,19 @@ void Tree::nearest_batch(const std::vector<Eigen::Vector3f>& queries, std::vecto
   flann::Matrix<float> fd(dist.data(), at.size(), 1);
   flann::SearchParams sp(-1, 0.0f);  // exact search, as PCL's tree
   sp.cores = 1;                      // callers parallelise over registrations, not queries
-  b->index->knnSearch(flann::Matrix<float>(q.data(), at.size(), 3), fi, fd, 1, sp);
-  for (size_t k = 0; k < at.size(); ++k) idx[at[k]] = int(b->id[found[k]]), d2[at[k]] = dist[k];
+  const flann::Matrix<float> qm(q.data(), at.size(), 3);
+  if (std::isinf(max_d2)) {
+    b->index->knnSearch(qm, fi, fd, 1, sp);
+  } else {
+    // Bounded: a query far from every point is pruned at the bound instead of searched down to
+    // its nearest point. The same tree walked in the same order, with the same strict test
+    // against the best so far, gives the nearest point within the bound that knnSearch gives.
+    // FLANN's bound is strict: the next float up keeps a point at exactly max_d2.
+    sp.max_neighbors = 1;
+    b->index->radiusSearch(qm, fi, fd, std::nextafter(max_d2, HUGE_VALF), sp);
+  }
+  for (size_t k = 0; k < at.size(); ++k)
+    if (dist[k] <= max_d2) idx[at[k]] = int(b->id[found[k]]), d2[at[k]] = dist[k];
 }
 
 std::vector<char> within_radius_kdtree(const std::vector<Eigen::Vector3f>& points,

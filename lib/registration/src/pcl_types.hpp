@@ -36,9 +36,11 @@ class Tree : public pcl::search::KdTree<PointT> {
                      std::vector<float>& d2) const override;
   int radiusSearch(const PointT& p, double radius, pcl::Indices& idx, std::vector<float>& d2,
                    unsigned int max_nn = 0) const override;
-  // Nearest input point of every query (finite queries only), in one call. idx[i] = -1 when none.
+  // Nearest input point of every query (finite queries only), in one call; with max_d2, only
+  // those at a squared distance of at most max_d2 (mm^2). idx[i] = -1 when none.
   void nearest_batch(const std::vector<Eigen::Vector3f>& queries, std::vector<int>& idx,
-                     std::vector<float>& d2) const;
+                     std::vector<float>& d2,
+                     float max_d2 = std::numeric_limits<float>::infinity()) const;
 
  private:
   struct Direct;

@@ -23,7 +23,7 @@ std::vector<Match> match(const PclCloud& scan, const Tree& ref_tree, const Pose&
     queries[i] = (to_ref * scan[i].getVector3fMap().cast<double>()).cast<float>();
   std::vector<int> idx;
   std::vector<float> d2;
-  ref_tree.nearest_batch(queries, idx, d2);
+  ref_tree.nearest_batch(queries, idx, d2, float(m.gate * m.gate));
   const auto& ref = *ref_tree.getInputCloud();
   for (size_t i = 0; i < scan.size(); ++i) {
     if (idx[i] < 0 || d2[i] > m.gate * m.gate) continue;
