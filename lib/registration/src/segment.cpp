@@ -25,22 +25,28 @@ std::vector<PointCloud> segment_clusters(const PointCloud& scan, double voxel_mm
   ec.setInputCloud(cloud);
   std::vector<pcl::PointIndices> found;
   ec.extract(found);  // sorted by size, largest first
-  // Each cluster is returned at full resolution: every scan point within one voxel of it.
-  std::vector<PointCloud> out;
+  // Each cluster is returned at full resolution: every scan point within one voxel of it, in
+  // scan order. One pass over the scan for all clusters (their boxes may overlap).
+  std::vector<Eigen::AlignedBox3f> boxes;
   for (const auto& idx : found) {
     Eigen::AlignedBox3f box;
     for (int i : idx.indices) box.extend(cloud->at(i).getVector3fMap());
     box.min().array() -= float(voxel_mm), box.max().array() += float(voxel_mm);
-    PointCloud c;
-    const bool labels = !scan.labels.empty();
-    for (size_t i = 0; i < scan.size(); ++i)
-      if (scan.points[i].allFinite() && box.contains(scan.points[i])) {
-        c.points.push_back(scan.points[i]);
-        if (labels) c.labels.push_back(scan.labels[i]);
+    boxes.push_back(box);
+  }
+  std::vector<PointCloud> out(boxes.size());
+  const bool labels = !scan.labels.empty();
+  for (size_t i = 0; i < scan.size(); ++i) {
+    if (!scan.points[i].allFinite()) continue;
+    for (size_t k = 0; k < boxes.size(); ++k)
+      if (boxes[k].contains(scan.points[i])) {
+        out[k].points.push_back(scan.points[i]);
+        if (labels) out[k].labels.push_back(scan.labels[i]);
       }
+  }
+  for (auto& c : out) {
     c.width = static_cast<int>(c.points.size());
     c.metadata = scan.metadata, c.sensor_origin = scan.sensor_origin;
-    out.push_back(std::move(c));
   }
   return out;
 }

@@ -5,11 +5,23 @@
 // floor(p / voxel) in float, its key the voxel's offset in the bounding grid (int arithmetic, as
 // PCL's), the point kept the one nearest the voxel centre (PCL's 4-vector distance, w = 1 against
 // 0), ties to the earlier point, voxels in the order of PCL's hash map of those keys.
+#include <cmath>
+#include <limits>
 #include <unordered_map>
 
 #include "pcl_types.hpp"
 
 namespace laserfit::registration {
+namespace {
+
+// floor(v) as an int; out of range, INT_MIN: what PCL's static_cast gives on x86 (cvttss2si),
+// here without undefined behaviour (a point 10^30 mm away in a hostile file).
+int floor_int(float v) {
+  const float f = std::floor(v);
+  return f >= -2147483648.0f && f < 2147483648.0f ? int(f) : std::numeric_limits<int>::min();
+}
+
+}  // namespace
 
 std::vector<size_t> uniform_sample(const std::vector<Eigen::Vector3f>& points, double voxel) {
   const float inv = 1.0f / static_cast<float>(voxel), size = static_cast<float>(voxel);
@@ -18,12 +30,13 @@ std::vector<size_t> uniform_sample(const std::vector<Eigen::Vector3f>& points, d
   for (const auto& p : points)
     if (p.allFinite()) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   const auto cell = [inv](const Eigen::Vector3f& p) {
-    return Eigen::Vector3i(int(std::floor(p.x() * inv)), int(std::floor(p.y() * inv)),
-                           int(std::floor(p.z() * inv)));
+    return Eigen::Vector3i(floor_int(p.x() * inv), floor_int(p.y() * inv), floor_int(p.z() * inv));
   };
-  const Eigen::Vector3i min_b = cell(lo), div = cell(hi) - min_b + Eigen::Vector3i::Ones();
   // Unsigned, then back to int: PCL's int arithmetic, which wraps on grids beyond 2^31 voxels.
-  const uint32_t mul_y = uint32_t(div.x()), mul_z = uint32_t(div.x()) * uint32_t(div.y());
+  const auto offset = [](int a, int b) { return uint32_t(a) - uint32_t(b); };
+  const Eigen::Vector3i min_b = cell(lo), max_b = cell(hi);
+  const uint32_t mul_y = offset(max_b.x(), min_b.x()) + 1;
+  const uint32_t mul_z = mul_y * (offset(max_b.y(), min_b.y()) + 1);
   struct Leaf {
     int idx = -1;
   };
@@ -32,8 +45,8 @@ std::vector<size_t> uniform_sample(const std::vector<Eigen::Vector3f>& points, d
     const Eigen::Vector3f& p = points[i];
     if (!p.allFinite()) continue;
     const Eigen::Vector3i ijk = cell(p);
-    const Eigen::Vector3i o = ijk - min_b;
-    const int key = int(uint32_t(o.x()) + uint32_t(o.y()) * mul_y + uint32_t(o.z()) * mul_z);
+    const int key = int(offset(ijk.x(), min_b.x()) + offset(ijk.y(), min_b.y()) * mul_y +
+                        offset(ijk.z(), min_b.z()) * mul_z);
     Leaf& leaf = leaves[size_t(key)];
     if (leaf.idx < 0) {
       leaf.idx = int(i);
