@@ -2,6 +2,7 @@
 // into candidate parts, each registered with register_cloud, and a pose that one part alone cannot
 // pin is registered again on all the scan points near it. crop_near is the crop both use.
 #include <chrono>
+#include <map>
 
 #include "laserfit/core/error.hpp"
 #include "laserfit/registration/preprocess.hpp"
@@ -101,6 +102,7 @@ std::pair<RegistrationResult, int> register_parts(const std::vector<PointCloud>&
   each.trust.slide_range_mm = 0;
   RegistrationResult best;
   int best_i = -1;
+  std::map<std::string, double> spent;  // every part tried, not only the one kept
   for (int k = 0; k < int(order.size()) && k < max_clusters; ++k) {
     const int i = order[k];
     if (parts[i].points.size() < 10) continue;
@@ -111,11 +113,13 @@ std::pair<RegistrationResult, int> register_parts(const std::vector<PointCloud>&
       r.status = Status::Failed;
       r.reason = "part " + std::to_string(i) + ": " + e.what();
     }
+    for (const auto& [stage, t] : r.timings_s) spent[stage] += t;
     if (best_i < 0 || rank(r) < rank(best) ||
         (rank(r) == rank(best) && !s.prior && r.fitness_mm2 < best.fitness_mm2))
       best = std::move(r), best_i = i;
     if (best.status == Status::Ok) break;
   }
+  best.timings_s = std::move(spent);
   return {std::move(best), best_i};
 }
 
@@ -156,7 +160,10 @@ bool regrow(const PointCloud& scan, const PointCloud& ref, const RegistrationSet
         (g.skip_coarse ? ", refined): " : ", registered afresh): ") + status_name(r.status) +
         (r.reason.empty() ? "" : " (" + r.reason + ")") + ", " + std::to_string(r.unobservable) +
         " unobservable direction(s)" + (better ? " -> kept" : " -> not better"));
-    if (!better) return false;
+    if (!better) {
+      for (const auto& [k, v] : r.timings_s) best.timings_s[k] += v;  // the time it took
+      return false;
+    }
     r.log.insert(r.log.begin(), best.log.begin(), best.log.end());
     for (const auto& [k, v] : best.timings_s) r.timings_s[k] += v;
     best = std::move(r);
