@@ -15,20 +15,11 @@
 namespace laserfit::registration {
 
 PclCloud::Ptr to_pcl(const PointCloud& c) {
-  PclCloud::Ptr out(new PclCloud);
-  out->reserve(c.size());
-  for (size_t i = 0; i < c.size(); ++i) {
-    if (!c.points[i].allFinite()) continue;
-    PointT p;
-    p.getVector3fMap() = c.points[i];
-    p.getNormalVector3fMap() = c.has_normals() ? c.normals[i] : Eigen::Vector3f::Zero();
-    p.curvature = 0;
-    out->push_back(p);
-  }
-  out->width = static_cast<uint32_t>(out->size());
-  out->height = 1;
-  out->is_dense = true;
-  return out;
+  std::vector<size_t> finite;
+  finite.reserve(c.size());
+  for (size_t i = 0; i < c.size(); ++i)
+    if (c.points[i].allFinite()) finite.push_back(i);
+  return to_pcl(c, finite);
 }
 
 double auto_voxel_mm(const PointCloud& ref) {
@@ -122,9 +113,9 @@ size_t remove_mixed_pixels(PointCloud& c, double factor) {
 }
 
 PclCloud::Ptr prepare(const PointCloud& in, const PreprocessSettings& s, double voxel) {
-  if (std::none_of(in.points.begin(), in.points.end(), [](auto& p) { return p.allFinite(); }))
-    throw Error("cloud has no finite points");
+  // Empty only without a finite point: the outlier filter never removes every point.
   const PclCloud::Ptr d = sample_and_filter(in, s, voxel);
+  if (d->empty()) throw Error("cloud has no finite points");
   if (d->size() < 10) throw Error("fewer than 10 points left after filtering and downsampling");
   const PclCloud::Ptr n = with_normals(d, d, s.normal_radius_vox * voxel, s, in.has_normals());
   if (n->size() < 10) throw Error("fewer than 10 points with normals after preprocessing");
