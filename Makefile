@@ -95,9 +95,13 @@ FUZZ_TARGETS := cloud mesh raw_mesh scene cell benchmark thresholds manifest str
 # parsers' children (lib/core/isolate) run under their own limits and would otherwise report a
 # parser's huge allocation, which the parent answers with an error line, as a finding.
 FUZZ_LIMITS := -rss_limit_mb=4096 -malloc_limit_mb=1048576
-# Symbols bound at start: a target that isolates a parser forks per input, and each child would
-# otherwise resolve the parser's symbols lazily again (a fifth of the mesh target's time).
-FUZZ_ENV := LD_BIND_NOW=1 ASAN_OPTIONS=$(ASAN_OPTIONS) UBSAN_OPTIONS=$(UBSAN_OPTIONS) \
+# A target that isolates a parser forks per input, and each child pays for what the parent maps
+# and what it touches itself. Symbols bound at start: each child would otherwise resolve the
+# parser's symbols lazily again (a fifth of the mesh target's time). A small ASan quarantine and
+# shorter allocation stacks: the parent stays small (peak RSS 370 -> 164 MB) and the child copies
+# fewer pages; inputs are <= 64 KiB, so 8 MB of freed memory still outlives any one input.
+FUZZ_ASAN_OPTIONS := $(ASAN_OPTIONS):quarantine_size_mb=8:malloc_context_size=10
+FUZZ_ENV := LD_BIND_NOW=1 ASAN_OPTIONS=$(FUZZ_ASAN_OPTIONS) UBSAN_OPTIONS=$(UBSAN_OPTIONS) \
   LSAN_OPTIONS=$(LSAN_OPTIONS)
 fuzz: build-asan
 	@for t in $(FUZZ_TARGETS); do \
