@@ -10,6 +10,8 @@
 // weakly observed direction overshoots far outside the region where the linearisation holds.
 #include <ceres/ceres.h>
 
+#include <deque>
+
 #include "laserfit/core/error.hpp"
 #include "stages.hpp"
 
@@ -77,11 +79,18 @@ RefineOutput refine_ceres(const RefineInput& in) {
   for (double sc = std::max(4.0, in.s.initial_gate_mm / fine); sc > 1.0; sc /= 2)
     scales.push_back(sc);
   scales.push_back(1.0);
+  // The problem owns none of its pieces: the residuals live in one deque (not one allocation
+  // each), and one context serves every solve of this refinement.
+  std::unique_ptr<ceres::Context> context(ceres::Context::Create());
+  ceres::Problem::Options po;
+  po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  po.disable_all_safety_checks = true;  // one parameter block, every residual built right here
+  po.context = context.get();
+  std::deque<PointToPlane> residuals;  // not moved as it grows: Ceres holds their addresses
   for (const double scale : scales) {
     const double gate = scale * fine;
     for (int it = 0; it < in.s.max_iterations; ++it, ++out.iterations) {
-      ceres::Problem::Options po;
-      po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
       ceres::Problem problem(po);
       std::unique_ptr<ceres::LossFunction> loss(
           make_loss(in.s.robust_loss, in.s.robust_scale_vox * scale * in.voxel));
@@ -92,13 +101,14 @@ RefineOutput refine_ceres(const RefineInput& in) {
       for (const auto& x : M) c += x.q;
       c /= double(M.size());
       double L2 = 0;
+      residuals.clear();
       for (const auto& x : M) {
-        problem.AddResidualBlock(new PointToPlane(x.p - c, x.q - c, x.n), loss.get(), delta);
+        residuals.emplace_back(x.p - c, x.q - c, x.n);
+        problem.AddResidualBlock(&residuals.back(), loss.get(), delta);
         L2 += (x.q - c).squaredNorm();
       }
-      problem.AddResidualBlock(
-          new Damping(1e-3 * std::sqrt(double(M.size())), std::sqrt(L2 / double(M.size()))),
-          nullptr, delta);
+      Damping damping(1e-3 * std::sqrt(double(M.size())), std::sqrt(L2 / double(M.size())));
+      problem.AddResidualBlock(&damping, nullptr, delta);
       ceres::Solver::Options so;
       so.linear_solver_type = ceres::DENSE_QR;
       so.max_num_iterations = 10;
