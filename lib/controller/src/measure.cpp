@@ -19,7 +19,7 @@ registration::RegistrationResult register_one(const PointCloud& scan, const Poin
                                               const std::string& weak_rotation,
                                               const std::string& weak_translation,
                                               const ControllerSettings& s, uint64_t seed,
-                                              bool refine_only = false) {
+                                              bool refine_only = false, int clusters = 2) {
   registration::RegistrationSettings rs;
   s.thresholds.apply(rs, object);
   // The cell's harmless DoFs are the ones the scan is expected not to pin.
@@ -34,7 +34,7 @@ registration::RegistrationResult register_one(const PointCloud& scan, const Poin
   rs.q0 = Eigen::Quaterniond(prior.rotation());
   rs.pre.use_viewpoint = true, rs.pre.viewpoint = viewpoint(scan);
   rs.seed = seed;
-  rs.segment.max_clusters = 2;  // the points near the prior, then the nearest cluster
+  rs.segment.max_clusters = clusters;  // the points near the prior, then the nearest clusters
   try {
     return registration::register_scan(scan, ref, rs);
   } catch (const Error& e) {
@@ -93,9 +93,11 @@ Measurement measure(const PointCloud& scan, const PointCloud& target_ref,
       log.push_back("refining " + tname + " from its last measurement: " + why +
                     "; full registration");
   }
+  // With only the arm's model to go by, the target can lie ~30 mm from its prior (the sensing
+  // arm's kinematic error), and nearer clusters (the part above it, the board) come first.
   if (!ok) {
     m.target = register_one(scan, target_ref, tracked_target ? *tracked_target : target_prior,
-                            tname, tw_rot, tw_trans, s, seed);
+                            tname, tw_rot, tw_trans, s, seed, false, tracked_target ? 2 : 4);
     ok = check_target();
   }
   if (!ok) {
