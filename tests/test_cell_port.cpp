@@ -121,3 +121,47 @@ TEST(CellPort, AScanWithNoDataStopsTheLoop) {
   EXPECT_EQ(cell.moves_after_fault, 0);
   EXPECT_EQ(cell.scans_after_fault, 0);
 }
+
+// A cell that records the order of the loop's calls: 'm' a motion, 's' a sweep.
+class RecordingCell : public controller::CellPort {
+ public:
+  explicit RecordingCell(controller::SimCell& sim) : sim_(sim) {}
+  robot::Joints joints() override { return sim_.joints(); }
+  controller::MotionReport move(const controller::MotionCommand& c) override {
+    return calls += 'm', sim_.move(c);
+  }
+  controller::Sweep scan(const controller::SweepRequest& r) override {
+    return calls += 's', sim_.scan(r);
+  }
+  void stop() override { calls += 'x'; }
+  std::optional<cell::Insertion> judge() override { return sim_.judge(); }
+  std::optional<Eigen::Vector2d> true_error(const Pose& goal) override {
+    return sim_.true_error(goal);
+  }
+  std::string calls;
+
+ private:
+  controller::SimCell& sim_;
+};
+
+// Scan only where it pays: a correction goes with the move to the next waypoint, whose scan
+// verifies it. The same trial with and without folding: both inserted (the simulated cell judges
+// on the true poses: within the eye's 85 um / 425 um clearance), with fewer scans folded, and
+// every motion is followed by a scan before the next one.
+TEST(CellPort, FoldedCorrectionsAreVerifiedByTheNextWaypointsScan) {
+  int scans[2] = {0, 0};
+  for (const bool fold : {false, true}) {
+    Trial t;
+    t.s.fold = fold;
+    controller::SimCell sim(t.c, t.su, 0, 9, t.s.motion);
+    RecordingCell cell(sim);
+    const auto o = t.run(cell);
+    EXPECT_TRUE(o.success) << (fold ? "folded: " : "verified: ") << o.result;
+    scans[fold] = o.scans;
+    if (!fold) continue;
+    ASSERT_GE(cell.calls.size(), 2u);
+    EXPECT_EQ(cell.calls.back(), 'm');  // the insertion
+    EXPECT_EQ(cell.calls.find("mm"), std::string::npos) << cell.calls;
+  }
+  EXPECT_LT(scans[1], scans[0]);
+}

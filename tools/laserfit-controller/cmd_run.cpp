@@ -17,7 +17,7 @@ struct Options {
   int trials = 1, first = 0;
   uint64_t seed = 1;
   double timeout_s = 10;
-  bool quiet = false;
+  bool quiet = false, verify_each = false;
 };
 
 int run(const Options& o) {
@@ -25,6 +25,7 @@ int run(const Options& o) {
   const cell::CellSettings cs = cell::load_cell(o.cell);
   ControllerSettings s = settings_for(cs);
   s.thresholds = registration::load_thresholds(o.thresholds);
+  s.fold = !o.verify_each;
   std::vector<Strategy> strategies;
   std::stringstream in(o.strategies);
   for (std::string x; std::getline(in, x, ',');)
@@ -88,6 +89,10 @@ Command add_run(CLI::App& root) {
   app->add_option("--tls-ca", o->tls_ca, "PEM of the CA that signed the cell's certificate: TLS");
   app->add_option("-o,--output,--out", o->out,
                   "every trial's outcome and decision log (JSON Lines)");
+  app->add_flag("--verify-each", o->verify_each,
+                "verify every correction by a scan of its own (the paper's loop; default: a "
+                "correction goes with the move to the next waypoint, whose scan verifies it, while "
+                "that waypoint is outside the target or the correction is at most 0.1 mm)");
   app->add_flag("--quiet", o->quiet, "no progress on stderr");
   return {app, [o] { return run(*o); }};
 }

@@ -18,7 +18,7 @@ struct Options {
   std::string cell, thresholds, strategies = "ic1,ic2,laser", out, dump;
   int trials = 0, first = 0, jobs = 1;
   uint64_t seed = 1;
-  bool json = false, quiet = false;
+  bool json = false, quiet = false, verify_each = false;
 };
 
 int run(const Options& o) {
@@ -26,6 +26,7 @@ int run(const Options& o) {
   const cell::CellSettings cs = cell::load_cell(o.cell);
   ControllerSettings s = settings_for(cs);
   s.thresholds = registration::load_thresholds(o.thresholds);
+  s.fold = !o.verify_each;
   s.dump_dir = o.dump;
   if (!o.dump.empty()) std::filesystem::create_directories(o.dump);
   std::vector<Strategy> strategies;
@@ -113,6 +114,10 @@ Command add_sim(CLI::App& root) {
                   "write every trial's outcome and decision log here (JSON Lines)");
   app->add_option("--dump", o->dump,
                   "write every scan and the reference clouds here (to look at them)");
+  app->add_flag("--verify-each", o->verify_each,
+                "verify every correction by a scan of its own (the paper's loop; default: a "
+                "correction goes with the move to the next waypoint, whose scan verifies it, while "
+                "that waypoint is outside the target or the correction is at most 0.1 mm)");
   app->add_flag("--quiet", o->quiet, "no progress on stderr");
   app->add_flag("--json", o->json, "machine-readable summary on stdout");
   return {app, [o] { return run(*o); }};

@@ -39,9 +39,12 @@ class Loop {
   bool move(const Pose& T_baseA_flange_goal, const robot::Joints& q_ref,
             const robot::MotionSettings& ms, double* duration_s = nullptr);
   bool shift(const Pose& delta, double min_duration_s);
+  bool move_on(const Pose& d);
   bool scan_until_trusted(bool gated, bool outside, Correction& corr);
-  bool correct_rounds(bool gated, bool outside);
+  bool correct_rounds(bool gated, bool outside, bool next_outside);
   bool stages();
+  Pose waypoint(double fraction) const;
+  bool outside(const Pose& waypoint) const;
   PointCloud sweep(const SweepRequest& req);
   void dump(const PointCloud& scan) const;
   Outcome finish();
@@ -53,8 +56,10 @@ class Loop {
   const ControllerSettings& s_;
   uint64_t seed_;
   Outcome o_;
-  std::string why_;              // why the trial stops: a fault the cell reported, or a refusal
-  Pose way_ = Pose::Identity();  // the waypoint being reached (part in the target frame)
+  std::string why_;                  // why the trial stops: a fault the cell reported, or a refusal
+  Pose way_ = Pose::Identity();      // the waypoint being reached (part in the target frame)
+  Pose pending_ = Pose::Identity();  // a measured correction to apply with the next move
+  double unverified_mm_ = 0;         // the one the last move carried (mm), verified by no scan yet
   std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
   double in_cell_s_ = 0;  // wall-clock time spent inside the cell's calls
   double cell_s_ = 0;     // the cell's own time: motions and sweeps as it reports them
@@ -94,6 +99,18 @@ bool Loop::shift(const Pose& delta, double min_duration_s) {
   if (tracked_part_)
     tracked_part_ = m_.T_scan_target.inverse() * delta * m_.T_scan_target * *tracked_part_;
   return true;
+}
+
+// A move on toward the insertion (`d`, world frame), with the correction folded into it if any:
+// the correction first (it puts the part on the current waypoint), then the step from there.
+bool Loop::move_on(const Pose& d) {
+  const Pose D = d * pending_;
+  unverified_mm_ = pending_.translation().norm();
+  if (pending_.isApprox(Pose::Identity())) return shift(D, s_.motion.min_duration_s);
+  pending_ = Pose::Identity();
+  const planning::Trajectory tr = plan(c_, c_.nominal.fk(cell_.joints()), D, s_);
+  if (!tr.ok) return why_ = tr.reason, false;
+  return shift(D, std::max(tr.duration_s, s_.motion.min_duration_s));
 }
 
 void Loop::times() {
@@ -163,41 +180,53 @@ Outcome Loop::attempt() {
   Pose d = Pose::Identity();
   d.translation() =
       m_.T_scan_target.linear() * (c_.s.T_target_part_insert.translation() - way_.translation());
-  return shift(d, s_.motion.min_duration_s) ? finish() : refuse(why_);
+  return move_on(d) ? finish() : refuse(why_);
+}
+
+// The part's waypoint `fraction` of the way from the approach to the insertion (target frame).
+Pose Loop::waypoint(double fraction) const {
+  const auto& cs = c_.s;
+  Pose p = cs.T_target_part_insert;
+  p.translation() = cs.T_target_part_insert.translation() +
+                    (cs.approach_mm - cs.T_target_part_insert.translation()) * (1 - fraction);
+  return p;
+}
+
+// Whether the part's end is still outside the target there (short of its mouth).
+bool Loop::outside(const Pose& w) const {
+  const Pose& Q = c_.s.T_target_part_insert;
+  return (w.translation() - Q.translation()).dot(Q.linear().col(2)) < -c_.s.clearance.depth_mm;
 }
 
 // Waypoints from the approach toward the insertion, each reached and verified by scans: an
 // unverified move of d mm on an arm whose model is off by a few degrees lands d * sin(error)
 // off, so the last unverified step is kept short.
 bool Loop::stages() {
-  const auto& cs = c_.s;
-  const Pose approach = way_;
   std::vector<double> fractions = {0.0};
-  fractions.insert(fractions.end(), cs.stages.begin(), cs.stages.end());
+  fractions.insert(fractions.end(), c_.s.stages.begin(), c_.s.stages.end());
   for (size_t w = 0; w < fractions.size(); ++w) {
-    Pose next = approach;
-    next.translation() =
-        cs.T_target_part_insert.translation() +
-        (cs.approach_mm - cs.T_target_part_insert.translation()) * (1 - fractions[w]);
+    const Pose next = waypoint(fractions[w]);
     if (w > 0) {
       Pose d = Pose::Identity();
       d.translation() = m_.T_scan_target.linear() * (next.translation() - way_.translation());
-      if (!shift(d, s_.motion.min_duration_s)) return false;
+      if (!move_on(d)) return false;
       o_.log.push_back("stage " + std::to_string(w) + ": " + fmt(100 * fractions[w]) +
                        " % of the way in");
     }
     way_ = next;
-    const Pose& Q = cs.T_target_part_insert;
-    const bool outside =
-        (way_.translation() - Q.translation()).dot(Q.linear().col(2)) < -cs.clearance.depth_mm;
-    // After the approach has been corrected, the axial trust region applies.
-    if (!correct_rounds(w > 0, outside)) return false;
+    // The move after the last stage is the insertion: into the target.
+    const bool next_outside = w + 1 < fractions.size() && outside(waypoint(fractions[w + 1]));
+    // After the approach has been corrected and verified, the axial trust region applies; a
+    // larger correction carried by the move here is verified only by this waypoint's scan.
+    const bool gated = w > 0 && unverified_mm_ <= s_.axial_gate_mm;
+    if (!correct_rounds(gated, outside(way_), next_outside)) return false;
   }
   return true;
 }
 
-// Measure, correct, verify by the next measurement, until settled or out of rounds.
-bool Loop::correct_rounds(bool gated, bool outside) {
+// Measure, correct, verify by the next measurement, until settled or out of rounds; or, where it
+// is safe, leave the correction to go with the next move, whose scan verifies it.
+bool Loop::correct_rounds(bool gated, bool outside, bool next_outside) {
   const bool orient = o_.strategy == Strategy::LaserPose;
   for (int round = 0; round <= s_.max_rounds; ++round, ++o_.rounds) {
     Correction corr;
@@ -211,10 +240,19 @@ bool Loop::correct_rounds(bool gated, bool outside) {
     const bool settled = corr.lateral_mm < s_.verify_mm &&
                          std::abs(corr.axial_mm) < s_.verify_axial_mm &&
                          (!orient || corr.angle_deg < c_.s.clearance.angle_deg / 2);
+    // Along the axis at most the trust region once gated.
+    const Correction step = gated ? limit_axial(corr, s_.axial_gate_mm) : corr;
+    const double tip_mm = std::hypot(step.lateral_mm, step.axial_mm);  // the part's end moves
+    if (s_.fold && (next_outside || tip_mm <= s_.fold_max_mm)) {
+      pending_ = step.delta, ++o_.rounds;
+      const double turn_deg = Eigen::AngleAxisd(step.delta.linear()).angle() * 180 / M_PI;
+      o_.log.push_back("correction of " + fmt(tip_mm * 1e3) + " um, " + fmt(turn_deg) +
+                       " deg goes with the next move");
+      break;
+    }
     if (settled && (round > 0 || gated)) break;
     // Correct, in the last round too: its reading is still the best estimate (applied
-    // unverified, like a stage move). Along the axis at most the trust region once gated.
-    const Correction step = gated ? limit_axial(corr, s_.axial_gate_mm) : corr;
+    // unverified, like a stage move).
     const planning::Trajectory tr = plan(c_, c_.nominal.fk(cell_.joints()), step.delta, s_);
     if (!tr.ok) return why_ = tr.reason, false;
     if (!shift(step.delta, tr.duration_s)) return false;

@@ -37,6 +37,13 @@ struct ControllerSettings {
                                   // leave the part farther than this along its axis (it
                                   // lands within ~0.15 mm): a larger reading is re-scanned,
                                   // and the part moves at most this far per round along it
+  // Scan only where it pays: a correction is applied together with the move to the next
+  // waypoint, whose scan verifies both, while that waypoint is still outside the target or the
+  // correction is at most fold_max_mm (a move of d mm lands ~0.03-0.1 d off: 0.1 mm lands within
+  // 10 um). Otherwise, and with fold off (the paper's loop), each correction is verified by a
+  // scan of its own.
+  bool fold = true;
+  double fold_max_mm = 0.1;
   size_t reference_points = 60000;
   double prior_radius_mm = 1.0;  // scan points this near a prior-placed reference are a
                                  // candidate part (else the clusters nearest the prior)
