@@ -60,6 +60,10 @@ class Loop {
   Pose way_ = Pose::Identity();      // the waypoint being reached (part in the target frame)
   Pose pending_ = Pose::Identity();  // a measured correction to apply with the next move
   double unverified_mm_ = 0;         // the one the last move carried (mm), verified by no scan yet
+  MotionErrorModel learned_{s_.learning};
+  std::optional<Eigen::Vector3d> measured_at_;  // the part's origin at the last measurement
+  Eigen::Vector3d commanded_ = Eigen::Vector3d::Zero();  //   and the moves commanded since
+  void learn(bool axial_measured);
   std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
   double in_cell_s_ = 0;  // wall-clock time spent inside the cell's calls
   double cell_s_ = 0;     // the cell's own time: motions and sweeps as it reports them
@@ -95,7 +99,16 @@ bool Loop::shift(const Pose& delta, double min_duration_s) {
   ms.min_duration_s = min_duration_s;
   const robot::Joints hold = cell_.joints();
   const Pose& B = c_.T_world_baseA_believed;
-  if (!move(B.inverse() * delta * B * c_.nominal.fk(hold), hold, ms)) return false;
+  Pose command = delta;  // the part's origin moved by what lands the wanted move (learned)
+  if (tracked_part_) {
+    const Eigen::Matrix3d R = m_.T_scan_target.linear();
+    const Eigen::Vector3d o = m_.T_scan_target * tracked_part_->translation();
+    const Eigen::Vector3d wanted = R.transpose() * (delta * o - o);
+    const Eigen::Vector3d c = learned_.command_for(wanted);
+    command.pretranslate(R * (c - wanted));
+    commanded_ += c;
+  }
+  if (!move(B.inverse() * command * B * c_.nominal.fk(hold), hold, ms)) return false;
   if (tracked_part_)
     tracked_part_ = m_.T_scan_target.inverse() * delta * m_.T_scan_target * *tracked_part_;
   return true;
@@ -304,10 +317,27 @@ bool Loop::scan_until_trusted(bool gated, bool outside, Correction& corr) {
                        " um along the axis after a verified move; re-scan");
     } else {
       tracked_part_ = m_.T_scan_target.inverse() * m_.T_scan_part;
+      learn(outside && !m_.part_axial_unknown);
     }
   }
   if (!m_.ok) why_ = m_.reason + " after " + std::to_string(s_.max_scans) + " scans";
   return m_.ok;
+}
+
+// The moves since the last measurement against what this one measured: the arm's error on them
+// (target frame). Only where the part's end is measured along its axis too (outside the
+// target, and not a plug seen sliding along itself); elsewhere the next move is not learned from.
+void Loop::learn(bool axial_measured) {
+  const Eigen::Vector3d at = tracked_part_->translation();
+  if (measured_at_ && axial_measured && commanded_.norm() > 0) {
+    const Eigen::Vector3d error = at - *measured_at_ - commanded_;
+    learned_.observe(commanded_, error);
+    o_.log.push_back("the arm's move of " + fmt(commanded_.norm() * 1e3) + " um landed " +
+                     fmt(error.norm() * 1e3) + " um off it: learned (" +
+                     std::to_string(learned_.observations()) + " moves)");
+  }
+  measured_at_ = axial_measured ? std::optional<Eigen::Vector3d>(at) : std::nullopt;
+  commanded_.setZero();
 }
 
 // One sweep, assembled into the cloud registration takes (A's believed world frame) exactly as

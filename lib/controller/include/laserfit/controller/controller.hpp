@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "laserfit/cell/cell.hpp"
+#include "laserfit/controller/motion_error.hpp"
 #include "laserfit/core/cloud.hpp"
 #include "laserfit/io/json.hpp"
 #include "laserfit/planning/correction.hpp"
@@ -44,6 +45,7 @@ struct ControllerSettings {
   // scan of its own.
   bool fold = true;
   double fold_max_mm = 0.1;
+  MotionLearningSettings learning;  // each move measured by the next scan corrects the next one
   size_t reference_points = 60000;
   double prior_radius_mm = 1.0;  // scan points this near a prior-placed reference are a
                                  // candidate part (else the clusters nearest the prior)
