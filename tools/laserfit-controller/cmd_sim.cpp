@@ -117,7 +117,8 @@ Command add_sim(CLI::App& root) {
   app->add_flag("--verify-each", o->verify_each,
                 "verify every correction by a scan of its own (the paper's loop; default: a "
                 "correction goes with the move to the next waypoint, whose scan verifies it, while "
-                "that waypoint is outside the target or the correction is at most 0.1 mm)");
+                "that waypoint is outside the target or the correction is small: 2.5x the cell's "
+                "clearance)");
   app->add_flag("--quiet", o->quiet, "no progress on stderr");
   app->add_flag("--json", o->json, "machine-readable summary on stdout");
   return {app, [o] { return run(*o); }};

@@ -45,6 +45,10 @@ class Loop {
   bool stages();
   Pose waypoint(double fraction) const;
   bool outside(const Pose& waypoint) const;
+  double fold_max_mm() const {
+    const double clearance = std::min(c_.s.clearance.x_mm, c_.s.clearance.y_mm);
+    return s_.fold_max_mm > 0 ? s_.fold_max_mm : 0.25 * clearance / 0.1;
+  }
   PointCloud sweep(const SweepRequest& req);
   void dump(const PointCloud& scan) const;
   Outcome finish();
@@ -256,7 +260,7 @@ bool Loop::correct_rounds(bool gated, bool outside, bool next_outside) {
     // Along the axis at most the trust region once gated.
     const Correction step = gated ? limit_axial(corr, s_.axial_gate_mm) : corr;
     const double tip_mm = std::hypot(step.lateral_mm, step.axial_mm);  // the part's end moves
-    if (s_.fold && (next_outside || tip_mm <= s_.fold_max_mm)) {
+    if (s_.fold && (next_outside || tip_mm <= fold_max_mm())) {
       pending_ = step.delta, ++o_.rounds;
       const double turn_deg = Eigen::AngleAxisd(step.delta.linear()).angle() * 180 / M_PI;
       o_.log.push_back("correction of " + fmt(tip_mm * 1e3) + " um, " + fmt(turn_deg) +

@@ -40,11 +40,12 @@ struct ControllerSettings {
                                   // and the part moves at most this far per round along it
   // Scan only where it pays: a correction is applied together with the move to the next
   // waypoint, whose scan verifies both, while that waypoint is still outside the target or the
-  // correction is at most fold_max_mm (a move of d mm lands ~0.03-0.1 d off: 0.1 mm lands within
-  // 10 um). Otherwise, and with fold off (the paper's loop), each correction is verified by a
-  // scan of its own.
+  // correction is small enough that its own error (a move of d mm lands up to ~0.1 d off) stays
+  // within a quarter of the cell's smallest lateral clearance: fold_max_mm, or when 0, 2.5x that
+  // clearance (needle 0.21 mm, USB 0.125 mm). Otherwise, and with fold off (the paper's loop),
+  // each correction is verified by a scan of its own.
   bool fold = true;
-  double fold_max_mm = 0.1;
+  double fold_max_mm = 0;
   MotionLearningSettings learning;  // each move measured by the next scan corrects the next one
   size_t reference_points = 60000;
   double prior_radius_mm = 1.0;  // scan points this near a prior-placed reference are a
