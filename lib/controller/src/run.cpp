@@ -63,7 +63,8 @@ class Loop {
   std::string why_;                  // why the trial stops: a fault the cell reported, or a refusal
   Pose way_ = Pose::Identity();      // the waypoint being reached (part in the target frame)
   Pose pending_ = Pose::Identity();  // a measured correction to apply with the next move
-  double unverified_mm_ = 0;         // the one the last move carried (mm), verified by no scan yet
+  double pending_mm_ = 0;            //   how far it moves the part's end (mm)
+  double unverified_mm_ = 0;         // as far as the last move's, verified by no scan yet
   MotionErrorModel learned_{s_.learning};
   std::optional<Eigen::Vector3d> measured_at_;  // the part's origin at the last measurement
   Eigen::Vector3d commanded_ = Eigen::Vector3d::Zero();  //   and the moves commanded since
@@ -122,9 +123,9 @@ bool Loop::shift(const Pose& delta, double min_duration_s) {
 // the correction first (it puts the part on the current waypoint), then the step from there.
 bool Loop::move_on(const Pose& d) {
   const Pose D = d * pending_;
-  unverified_mm_ = pending_.translation().norm();
+  unverified_mm_ = pending_mm_;
   if (pending_.isApprox(Pose::Identity())) return shift(D, s_.motion.min_duration_s);
-  pending_ = Pose::Identity();
+  pending_ = Pose::Identity(), pending_mm_ = 0;
   const planning::Trajectory tr = plan(c_, c_.nominal.fk(cell_.joints()), D, s_);
   if (!tr.ok) return why_ = tr.reason, false;
   return shift(D, std::max(tr.duration_s, s_.motion.min_duration_s));
@@ -261,7 +262,7 @@ bool Loop::correct_rounds(bool gated, bool outside, bool next_outside) {
     const Correction step = gated ? limit_axial(corr, s_.axial_gate_mm) : corr;
     const double tip_mm = std::hypot(step.lateral_mm, step.axial_mm);  // the part's end moves
     if (s_.fold && (next_outside || tip_mm <= fold_max_mm())) {
-      pending_ = step.delta, ++o_.rounds;
+      pending_ = step.delta, pending_mm_ = tip_mm, ++o_.rounds;
       const double turn_deg = Eigen::AngleAxisd(step.delta.linear()).angle() * 180 / M_PI;
       o_.log.push_back("correction of " + fmt(tip_mm * 1e3) + " um, " + fmt(turn_deg) +
                        " deg goes with the next move");
