@@ -322,7 +322,7 @@ bool Loop::scan_until_trusted(bool gated, bool outside, Correction& corr) {
                        " um along the axis after a verified move; re-scan");
     } else {
       tracked_part_ = m_.T_scan_target.inverse() * m_.T_scan_part;
-      learn(outside && !m_.part_axial_unknown);
+      learn(!m_.part_axial_unknown);
     }
   }
   if (!m_.ok) why_ = m_.reason + " after " + std::to_string(s_.max_scans) + " scans";
@@ -330,18 +330,23 @@ bool Loop::scan_until_trusted(bool gated, bool outside, Correction& corr) {
 }
 
 // The moves since the last measurement against what this one measured: the arm's error on them
-// (target frame). Only where the part's end is measured along its axis too (outside the
-// target, and not a plug seen sliding along itself); elsewhere the next move is not learned from.
-void Loop::learn(bool axial_measured) {
+// (target frame), across the insertion axis only: what the clearance asks and what a scan
+// measures well. Along the axis a thread's end measures up to ~0.3 mm short or long, and learning
+// from that made the next moves worse. Not from a part whose slide along its own axis the scan
+// could not fix (its origin is arbitrary along it, and the axis is tilted).
+void Loop::learn(bool position_measured) {
   const Eigen::Vector3d at = tracked_part_->translation();
-  if (measured_at_ && axial_measured && commanded_.norm() > 0) {
-    const Eigen::Vector3d error = at - *measured_at_ - commanded_;
-    learned_.observe(commanded_, error);
+  if (measured_at_ && position_measured && commanded_.norm() > 0) {
+    const Eigen::Vector3d axis = c_.s.T_target_part_insert.linear().col(2);
+    Eigen::Vector3d error = at - *measured_at_ - commanded_;
+    error -= axis * axis.dot(error);
+    const bool used = learned_.observe(commanded_, error);
     o_.log.push_back("the arm's move of " + fmt(commanded_.norm() * 1e3) + " um landed " +
-                     fmt(error.norm() * 1e3) + " um off it: learned (" +
-                     std::to_string(learned_.observations()) + " moves)");
+                     fmt(error.norm() * 1e3) + " um off it across the axis: " +
+                     (used ? "learned (" + std::to_string(learned_.observations()) + " moves)"
+                           : "not learned from (a mismeasured move)"));
   }
-  measured_at_ = axial_measured ? std::optional<Eigen::Vector3d>(at) : std::nullopt;
+  measured_at_ = position_measured ? std::optional<Eigen::Vector3d>(at) : std::nullopt;
   commanded_.setZero();
 }
 

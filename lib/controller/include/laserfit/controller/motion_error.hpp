@@ -15,14 +15,17 @@ struct MotionLearningSettings {
   // shrunk by d^2 / (d^2 + ridge^2), so the repeatability of a short move (~12 um for 0.6 mm)
   // is not taken for a model error.
   double ridge_mm = 0.5;
-  double max_gain = 0.3;  // |A| at most this (spectral norm): larger is a mismeasured move
+  // A move that landed farther off than this fraction of it was mismeasured, not moved by a
+  // model error: it is not learned from; |A| (spectral norm) is held to it too.
+  double max_gain = 0.3;
 };
 
 class MotionErrorModel {
  public:
   explicit MotionErrorModel(const MotionLearningSettings& s = {}) : s_(s) {}
-  // A move commanded as `commanded` whose landing was measured `error` away from it (mm).
-  void observe(const Eigen::Vector3d& commanded, const Eigen::Vector3d& error);
+  // A move commanded as `commanded` whose landing was measured `error` away from it (mm); false
+  // when it is not learned from (learning off, or a mismeasured move).
+  bool observe(const Eigen::Vector3d& commanded, const Eigen::Vector3d& error);
   // The command that lands the wanted move, by what has been learned (the wanted move itself
   // before any observation or with learning off).
   Eigen::Vector3d command_for(const Eigen::Vector3d& wanted) const;
