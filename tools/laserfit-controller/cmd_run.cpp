@@ -89,11 +89,7 @@ Command add_run(CLI::App& root) {
   app->add_option("--tls-ca", o->tls_ca, "PEM of the CA that signed the cell's certificate: TLS");
   app->add_option("-o,--output,--out", o->out,
                   "every trial's outcome and decision log (JSON Lines)");
-  app->add_flag("--verify-each", o->verify_each,
-                "verify every correction by a scan of its own (the paper's loop; default: a "
-                "correction goes with the move to the next waypoint, whose scan verifies it, while "
-                "that waypoint is outside the target or the correction is small: 2.5x the cell's "
-                "clearance)");
+  add_verify_each_flag(*app, o->verify_each);
   app->add_flag("--quiet", o->quiet, "no progress on stderr");
   return {app, [o] { return run(*o); }};
 }

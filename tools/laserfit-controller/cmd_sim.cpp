@@ -114,11 +114,7 @@ Command add_sim(CLI::App& root) {
                   "write every trial's outcome and decision log here (JSON Lines)");
   app->add_option("--dump", o->dump,
                   "write every scan and the reference clouds here (to look at them)");
-  app->add_flag("--verify-each", o->verify_each,
-                "verify every correction by a scan of its own (the paper's loop; default: a "
-                "correction goes with the move to the next waypoint, whose scan verifies it, while "
-                "that waypoint is outside the target or the correction is small: 2.5x the cell's "
-                "clearance)");
+  add_verify_each_flag(*app, o->verify_each);
   app->add_flag("--quiet", o->quiet, "no progress on stderr");
   app->add_flag("--json", o->json, "machine-readable summary on stdout");
   return {app, [o] { return run(*o); }};

@@ -16,6 +16,9 @@ double since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
+// How far off an unverified move of the arm lands, per length moved (up to; learned moves less).
+constexpr double kMoveErrorPerLength = 0.1;
+
 std::string fmt(double v) {
   std::ostringstream o;
   o.precision(4);
@@ -47,7 +50,7 @@ class Loop {
   bool outside(const Pose& waypoint) const;
   double fold_max_mm() const {
     const double clearance = std::min(c_.s.clearance.x_mm, c_.s.clearance.y_mm);
-    return s_.fold_max_mm > 0 ? s_.fold_max_mm : 0.25 * clearance / 0.1;
+    return s_.fold_max_mm > 0 ? s_.fold_max_mm : 0.25 * clearance / kMoveErrorPerLength;
   }
   PointCloud sweep(const SweepRequest& req);
   void dump(const PointCloud& scan) const;
@@ -68,7 +71,7 @@ class Loop {
   MotionErrorModel learned_{s_.learning};
   std::optional<Eigen::Vector3d> measured_at_;  // the part's origin at the last measurement
   Eigen::Vector3d commanded_ = Eigen::Vector3d::Zero();  //   and the moves commanded since
-  void learn(bool axial_measured);
+  void learn(bool position_measured);
   std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
   double in_cell_s_ = 0;  // wall-clock time spent inside the cell's calls
   double cell_s_ = 0;     // the cell's own time: motions and sweeps as it reports them
@@ -335,6 +338,7 @@ bool Loop::scan_until_trusted(bool gated, bool outside, Correction& corr) {
 // from that made the next moves worse. Not from a part whose slide along its own axis the scan
 // could not fix (its origin is arbitrary along it, and the axis is tilted).
 void Loop::learn(bool position_measured) {
+  if (!s_.learning.enabled) return;
   const Eigen::Vector3d at = tracked_part_->translation();
   if (measured_at_ && position_measured && commanded_.norm() > 0) {
     const Eigen::Vector3d axis = c_.s.T_target_part_insert.linear().col(2);
