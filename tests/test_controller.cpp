@@ -96,6 +96,31 @@ TEST(Controller, InsertionCheckUsesTheClearanceAtTheMouth) {
   EXPECT_FALSE(cell::check_insertion(cs, target, tilted).success);
 }
 
+// A rigid part is stopped by the target's face: the USB plug moved 8 mm down the socket's axis
+// from 6 mm above the mouth. Tolerance: the stop lies within one 0.1 mm sample of the mouth plane
+// (plus the 0.1 mm depth clearance); in the hole (within the clearance), or beside the plate
+// (beyond its 15 mm half-width), the way is free.
+TEST(Controller, ContactStopsAPartAtTheTargetsFace) {
+  const auto cs = cell::load_cell(kCells + "usb.yaml");
+  const Pose target = cs.target_poses[0];
+  auto at = [&](double x, double z) {
+    Pose p = target * cs.T_target_part_insert;
+    p.translation() += target.linear() * Eigen::Vector3d(x, 0, z);
+    return p;
+  };
+  const auto hit = cell::first_contact(cs, target, at(2.6, -6), at(2.6, 2));
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_NEAR(hit->travelled_mm, 6 + cs.clearance.depth_mm, 0.1 + 1e-9);
+  EXPECT_NEAR(hit->at.x_mm, 2.6, 1e-9);
+  const double stopped = cell::check_insertion(cs, target, hit->T_world_part).depth_mm;
+  EXPECT_LE(stopped, cs.clearance.depth_mm);
+  EXPECT_GT(stopped, cs.clearance.depth_mm - 0.1 - 1e-9);
+  EXPECT_FALSE(cell::first_contact(cs, target, at(cs.clearance.x_mm - 0.001, -6),
+                                   at(cs.clearance.x_mm - 0.001, 8)));
+  EXPECT_FALSE(cell::first_contact(cs, target, at(16, -6), at(16, 2)));
+  EXPECT_FALSE(cell::first_contact(cs, target, at(2.6, -6), at(2.6, cs.clearance.depth_mm)));
+}
+
 // Tolerance: the nominal flange ends within 1 um / 1e-5 rad of the goal.
 TEST(Controller, CartesianMotionReachesItsGoal) {
   const auto arm = robot::ArmModel::panda();

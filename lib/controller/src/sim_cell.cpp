@@ -1,5 +1,7 @@
 // The simulated cell behind the controller's port (see sim.hpp).
 #include <algorithm>
+#include <cmath>
+#include <sstream>
 
 #include "laserfit/controller/sim.hpp"
 #include "laserfit/core/rng.hpp"
@@ -22,16 +24,31 @@ SimCell::SimCell(const cell::Cell& c, const SimSetup& su, int start, uint64_t se
 
 // The arm's own Cartesian controller runs on its nominal model (all a real controller knows);
 // where the part truly lands follows from the true arm at the joints it ends in. A path it would
-// not accept, or a joint limit met on the way (the Panda's reflex), is a fault.
+// not accept, a joint limit met on the way, or the part running into the target (the Panda's
+// reflexes) is a fault.
 MotionReport SimCell::move(const MotionCommand& command) {
   MotionReport out;
   if (out.reason = check_request(command, c_.nominal); !out.reason.empty()) return out;
+  // Where the part starts: where the last motion left it, else the true arm at its start joints.
+  const Pose from =
+      part_ ? *part_ : c_.T_world_baseA_true * c_.trueA.fk(q_) * c_.T_flange_part_true;
   const robot::MotionResult r =
       robot::follow_cartesian(c_.nominal, q_, command.path, command.q_ref, arm_);
   q_ = r.q;
   part_ = c_.part_true(q_, rep_, g_);
   out.q = q_, out.duration_s = r.duration_s;
   if (!r.limits_ok) return out.reason = "joint position limit reached", out;
+  // The true path is the commanded line bent by the arm's model error, which varies slowly along
+  // it: the straight line between the true end poses stands for it.
+  if (const auto hit = cell::first_contact(c_.s, su_.T_world_target, from, *part_)) {
+    part_ = hit->T_world_part;  // stopped there (the joints reported are the goal's)
+    std::ostringstream why;
+    why.precision(3);
+    why << "collision: the part ran into the target " << hit->travelled_mm
+        << " mm along the motion, its axis " << std::hypot(hit->at.x_mm, hit->at.y_mm)
+        << " mm from the hole's centre (collision reflex)";
+    return out.reason = why.str(), out;
+  }
   out.ok = true;
   return out;
 }

@@ -5,6 +5,7 @@
 // kinematics, calibrated base-to-base, flange-to-sensor and grasp transforms) differs from the
 // truth by configured, seeded errors. Lengths mm, angles deg in files.
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -97,5 +98,18 @@ struct Insertion {
 };
 Insertion check_insertion(const CellSettings& s, const Pose& T_world_target,
                           const Pose& T_world_part);
+
+// Where a rigid part moving from `from` to `to` (true poses, world; a straight line, the rotation
+// slerped, sampled every `step_mm`) first runs into the target: its front carried more than the
+// depth clearance past the insertion point while its axis crosses the target's face (the target
+// mesh's extent across the axis) outside the hole's clearance. The part stops at the last free
+// sample, `travelled_mm` along the way (a real arm's collision reflex). None: the way is free.
+struct Contact {
+  Pose T_world_part;
+  double travelled_mm = 0;
+  Insertion at;  // the blocked sample, as the insertion check reads it
+};
+std::optional<Contact> first_contact(const CellSettings& s, const Pose& T_world_target,
+                                     const Pose& from, const Pose& to, double step_mm = 0.1);
 
 }  // namespace laserfit::cell
