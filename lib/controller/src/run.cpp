@@ -40,12 +40,13 @@ class Loop {
  private:
   Outcome attempt();
   bool move(const Pose& T_baseA_flange_goal, const robot::Joints& q_ref,
-            const robot::MotionSettings& ms, double* duration_s = nullptr);
+            const robot::MotionSettings& ms, bool guarded = false);
   bool shift(const Pose& delta, double min_duration_s);
   bool move_on(const Pose& d);
   bool scan_until_trusted(bool gated, bool outside, Correction& corr);
   bool correct_rounds(bool gated, bool outside, bool next_outside);
   bool stages();
+  bool touched(const std::vector<double>& fractions, size_t& w);
   Pose waypoint(double fraction) const;
   bool outside(const Pose& waypoint) const;
   double fold_max_mm() const {
@@ -68,6 +69,9 @@ class Loop {
   Pose pending_ = Pose::Identity();  // a measured correction to apply with the next move
   double pending_mm_ = 0;            //   how far it moves the part's end (mm)
   double unverified_mm_ = 0;         // as far as the last move's, verified by no scan yet
+  bool contact_ = false;             // the last (guarded) move stopped on the target's face
+  bool turn_ = true;                 // the next correction turns the part too (pose strategy)
+  int touches_ = 0;
   MotionErrorModel learned_{s_.learning};
   std::optional<Eigen::Vector3d> measured_at_;  // the part's origin at the last measurement
   Eigen::Vector3d commanded_ = Eigen::Vector3d::Zero();  //   and the moves commanded since
@@ -82,20 +86,23 @@ class Loop {
 };
 
 bool Loop::move(const Pose& goal, const robot::Joints& q_ref, const robot::MotionSettings& ms,
-                double* duration_s) {
+                bool guarded) {
   // The path from where the arm reports its flange (its joints through the nominal model, as the
   // arm's own controller computes it), checked before it is sent.
   MotionCommand cmd;
   cmd.path = robot::plan_cartesian(c_.nominal.fk(cell_.joints()), goal, ms), cmd.q_ref = q_ref;
+  cmd.guarded = guarded;
   if (const std::string bad = check_request(cmd, c_.nominal); !bad.empty())
     return why_ = "not sent: " + bad, false;
   const auto t = std::chrono::steady_clock::now();
   const MotionReport r = cell_.move(cmd);
   in_cell_s_ += since(t);
-  if (const std::string bad = check_report(r, c_.nominal.limits); !bad.empty())
+  std::string bad = check_report(r, c_.nominal.limits);
+  if (bad.empty() && r.contact && !guarded) bad = "a contact on an unguarded motion";
+  if (!bad.empty())
     return o_.cell_fault = true, why_ = "the assembling arm's report: " + bad, false;
   cell_s_ += r.duration_s;
-  if (duration_s) *duration_s = r.duration_s;
+  contact_ = r.contact;
   if (!r.ok) o_.cell_fault = true, why_ = "the assembling arm reported a fault: " + r.reason;
   return r.ok;
 }
@@ -116,7 +123,7 @@ bool Loop::shift(const Pose& delta, double min_duration_s) {
     command.pretranslate(R * (c - wanted));
     commanded_ += c;
   }
-  if (!move(B.inverse() * command * B * c_.nominal.fk(hold), hold, ms)) return false;
+  if (!move(B.inverse() * command * B * c_.nominal.fk(hold), hold, ms, true)) return false;
   if (tracked_part_)
     tracked_part_ = m_.T_scan_target.inverse() * delta * m_.T_scan_target * *tracked_part_;
   return true;
@@ -192,16 +199,11 @@ Outcome Loop::attempt() {
   // Laser feedback: approach (IC2), then scan, register, correct, verify; finally insert.
   Pose approach = c_.s.T_target_part_insert;
   approach.translation() = c_.s.approach_mm;
-  if (!move(c_.flange_for_part(su_.T_world_target_believed * approach), q_ref, s_.motion))
+  if (!move(c_.flange_for_part(su_.T_world_target_believed * approach), q_ref, s_.motion, true))
     return refuse(why_);
   o_.log.push_back("approach with IC2 from start " + std::to_string(o_.start + 1));
   way_ = approach;
-  if (!stages()) return refuse(why_);
-  // Insert: the last step, along the measured target.
-  Pose d = Pose::Identity();
-  d.translation() =
-      m_.T_scan_target.linear() * (c_.s.T_target_part_insert.translation() - way_.translation());
-  return move_on(d) ? finish() : refuse(why_);
+  return stages() ? finish() : refuse(why_);
 }
 
 // The part's waypoint `fraction` of the way from the approach to the insertion (target frame).
@@ -221,27 +223,63 @@ bool Loop::outside(const Pose& w) const {
 
 // Waypoints from the approach toward the insertion, each reached and verified by scans: an
 // unverified move of d mm on an arm whose model is off by a few degrees lands d * sin(error)
-// off, so the last unverified step is kept short.
+// off, so the last unverified step is kept short. The last move inserts, along the measured
+// target. A guarded move that ends on the target's face goes back to the first stage (touched).
 bool Loop::stages() {
   std::vector<double> fractions = {0.0};
   fractions.insert(fractions.end(), c_.s.stages.begin(), c_.s.stages.end());
-  for (size_t w = 0; w < fractions.size(); ++w) {
-    const Pose next = waypoint(fractions[w]);
-    if (w > 0) {
-      Pose d = Pose::Identity();
-      d.translation() = m_.T_scan_target.linear() * (next.translation() - way_.translation());
-      if (!move_on(d)) return false;
-      o_.log.push_back("stage " + std::to_string(w) + ": " + fmt(100 * fractions[w]) +
-                       " % of the way in");
-    }
-    way_ = next;
+  for (size_t w = 0;;) {  // the part is at way_, waypoint w (the approach first)
+    if (contact_ && !touched(fractions, w)) return false;
     // The move after the last stage is the insertion: into the target.
     const bool next_outside = w + 1 < fractions.size() && outside(waypoint(fractions[w + 1]));
     // After the approach has been corrected and verified, the axial trust region applies; a
     // larger correction carried by the move here is verified only by this waypoint's scan.
     const bool gated = w > 0 && unverified_mm_ <= s_.axial_gate_mm;
     if (!correct_rounds(gated, outside(way_), next_outside)) return false;
+    if (contact_) continue;
+    const Pose next = ++w < fractions.size() ? waypoint(fractions[w]) : waypoint(1.0);
+    Pose d = Pose::Identity();
+    d.translation() = m_.T_scan_target.linear() * (next.translation() - way_.translation());
+    if (!move_on(d)) return false;
+    if (contact_) continue;
+    if (w == fractions.size()) return true;
+    o_.log.push_back("stage " + std::to_string(w) + ": " + fmt(100 * fractions[w]) +
+                     " % of the way in");
+    way_ = next;
   }
+}
+
+// A guarded move stopped where the part met the target's face: its end is at the mouth plane,
+// beside the hole. That fixes what no scan could, its position along the axis (a plug whose
+// front faces away from the scanner, an approach mm deeper than the arm's model says): the loop's
+// waypoint and the part's prior move there, and the part backs off to the first stage.
+bool Loop::touched(const std::vector<double>& fractions, size_t& w) {
+  contact_ = false;
+  if (++touches_ > s_.max_touches)
+    return why_ = "the part met the target's face " + std::to_string(touches_) + " times", false;
+  const Pose& Q = c_.s.T_target_part_insert;
+  const Eigen::Vector3d n = Q.linear().col(2);
+  auto on_face = [&](Pose p) {
+    p.translation() += n * n.dot(Q.translation() - p.translation());
+    return p;
+  };
+  tracked_part_ = on_face(tracked_part_ ? *tracked_part_
+                                        : su_.T_world_target_believed.inverse() *
+                                              c_.part_believed(cell_.joints()));
+  way_ = on_face(way_);
+  measured_at_.reset(), commanded_.setZero();  // the interrupted move teaches nothing
+  pending_ = Pose::Identity(), pending_mm_ = 0;
+  turn_ = true;  // the interrupted move had not finished turning the part
+  w = std::min<size_t>(1, fractions.size() - 1);
+  const Pose back = waypoint(fractions[w]);
+  o_.log.push_back("touched the target's face: backing off to " + fmt(100 * fractions[w]) +
+                   " % of the way in");
+  // Before any measurement (a contact on the approach) the target is where the model puts it.
+  if (!m_.target_ok) m_.T_scan_target = tracked_ ? *tracked_ : su_.T_world_target_believed;
+  Pose d = Pose::Identity();
+  d.translation() = m_.T_scan_target.linear() * (back.translation() - way_.translation());
+  if (!shift(d, s_.motion.min_duration_s)) return false;
+  way_ = back;
   return true;
 }
 
@@ -277,6 +315,7 @@ bool Loop::correct_rounds(bool gated, bool outside, bool next_outside) {
     const planning::Trajectory tr = plan(c_, c_.nominal.fk(cell_.joints()), step.delta, s_);
     if (!tr.ok) return why_ = tr.reason, false;
     if (!shift(step.delta, tr.duration_s)) return false;
+    if (contact_) return true;  // stopped on the target's face: stages() backs off
     o_.log.push_back("corrected: " + fmt(tr.translation_mm * 1e3) + " um, " + fmt(tr.rotation_deg) +
                      " deg in " + fmt(tr.duration_s) + " s" +
                      (round == s_.max_rounds ? " (last round, unverified)" : ""));
@@ -318,7 +357,7 @@ bool Loop::scan_until_trusted(bool gated, bool outside, Correction& corr) {
     // Along its axis the part is corrected while its end is still outside the target (above
     // the mouth): an IC2 approach leaves millimetres there, and each unverified move of d mm
     // lands ~0.1 d off. Inside, the target hides the end and the measured end is short.
-    corr = compute_correction(m_, way_, orient && o_.rounds == 0, outside);
+    corr = compute_correction(m_, way_, orient && turn_, outside);
     if (gated && std::abs(corr.axial_mm) > s_.axial_gate_mm && k + 1 < s_.max_scans) {
       m_.ok = false;  // a thread end cut short or lengthened by the needle under it: look again
       o_.log.push_back("implausible: " + fmt(corr.axial_mm * 1e3) +
@@ -326,6 +365,7 @@ bool Loop::scan_until_trusted(bool gated, bool outside, Correction& corr) {
     } else {
       tracked_part_ = m_.T_scan_target.inverse() * m_.T_scan_part;
       learn(!m_.part_axial_unknown);
+      turn_ = false;
     }
   }
   if (!m_.ok) why_ = m_.reason + " after " + std::to_string(s_.max_scans) + " scans";

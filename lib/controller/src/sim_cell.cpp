@@ -8,6 +8,19 @@
 
 namespace laserfit::controller {
 
+namespace {
+// The path up to where the flange has covered `fraction` of its way to the goal (a stop there).
+robot::CartesianPath cut_at(const robot::CartesianPath& path, double fraction) {
+  robot::CartesianPath out = path;
+  if (path.size() < 2) return out;
+  const double total = (path.t.back() - path.t.front()).norm();
+  size_t n = 1;
+  while (n < path.size() && (path.t[n - 1] - path.t.front()).norm() < fraction * total) ++n;
+  out.t.resize(n), out.q.resize(n);
+  return out;
+}
+}  // namespace
+
 uint64_t scan_seed(uint64_t trial_seed, int n) {
   return mix_seed(trial_seed ^ (uint64_t(n) << 32));
 }
@@ -24,14 +37,15 @@ SimCell::SimCell(const cell::Cell& c, const SimSetup& su, int start, uint64_t se
 
 // The arm's own Cartesian controller runs on its nominal model (all a real controller knows);
 // where the part truly lands follows from the true arm at the joints it ends in. A path it would
-// not accept, a joint limit met on the way, or the part running into the target (the Panda's
-// reflexes) is a fault.
+// not accept, a joint limit met on the way, or the part running into the target unguarded (the
+// Panda's reflexes) is a fault; guarded, the arm stops at the contact and reports it.
 MotionReport SimCell::move(const MotionCommand& command) {
   MotionReport out;
   if (out.reason = check_request(command, c_.nominal); !out.reason.empty()) return out;
   // Where the part starts: where the last motion left it, else the true arm at its start joints.
   const Pose from =
       part_ ? *part_ : c_.T_world_baseA_true * c_.trueA.fk(q_) * c_.T_flange_part_true;
+  const robot::Joints q0 = q_;
   const robot::MotionResult r =
       robot::follow_cartesian(c_.nominal, q_, command.path, command.q_ref, arm_);
   q_ = r.q;
@@ -40,7 +54,27 @@ MotionReport SimCell::move(const MotionCommand& command) {
   if (!r.limits_ok) return out.reason = "joint position limit reached", out;
   // The true path is the commanded line bent by the arm's model error, which varies slowly along
   // it: the straight line between the true end poses stands for it.
-  if (const auto hit = cell::first_contact(c_.s, su_.T_world_target, from, *part_)) {
+  const auto hit = cell::first_contact(c_.s, su_.T_world_target, from, *part_);
+  if (hit && command.guarded) {
+    // Stopped where the true arm first carries the part into the face: the path cut there, found
+    // by bisection on the fraction of the path followed (the line above only says that it does).
+    auto blocked = [&](double f, robot::Joints& q) {
+      q = robot::follow_cartesian(c_.nominal, q0, cut_at(command.path, f), command.q_ref, arm_).q;
+      const Pose p = c_.T_world_baseA_true * c_.trueA.fk(q) * c_.T_flange_part_true;
+      return cell::first_contact(c_.s, su_.T_world_target, from, p).has_value();
+    };
+    double lo = 0, hi = 1;
+    robot::Joints q = q0, probe;
+    for (int i = 0; i < 16; ++i) {
+      const double f = (lo + hi) / 2;
+      if (blocked(f, probe))
+        hi = f;
+      else
+        lo = f, q = probe;
+    }
+    q_ = q, part_ = c_.part_true(q_, rep_, g_);
+    out.q = q_, out.duration_s = lo * r.duration_s, out.contact = true;
+  } else if (hit) {
     part_ = hit->T_world_part;  // stopped there (the joints reported are the goal's)
     std::ostringstream why;
     why.precision(3);

@@ -70,6 +70,7 @@ void put(const controller::MotionCommand& c, pb::Trajectory* m) {
     for (double x : {t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z()}) v->Add(x);
   }
   put(c.q_ref, m->mutable_q_ref());
+  m->set_guarded(c.guarded);
 }
 
 controller::MotionCommand get(const pb::Trajectory& m) {
@@ -82,19 +83,23 @@ controller::MotionCommand get(const pb::Trajectory& m) {
     c.path.q.emplace_back(v[i + 3], v[i + 4], v[i + 5], v[i + 6]);
   }
   c.q_ref = get(m.q_ref(), "trajectory's elbow reference");
+  c.guarded = m.guarded();
   return c;
 }
 
 void put(const controller::MotionReport& r, pb::MotionResult* m) {
   m->set_ok(r.ok), m->set_fault(r.reason), m->set_duration_s(r.duration_s);
+  m->set_contact(r.contact);
   put(r.q, m->mutable_q());
 }
 
 controller::MotionReport get(const pb::MotionResult& m) {
   controller::MotionReport r;
   r.ok = m.ok(), r.reason = m.fault().substr(0, 200), r.duration_s = m.duration_s();
+  r.contact = m.contact();
   r.q = get(m.q(), "motion result");
   require(r.ok || !r.reason.empty(), "motion result", "a fault without its reason");
+  require(r.ok || !r.contact, "motion result", "a contact reported with a fault");
   return r;
 }
 

@@ -17,10 +17,13 @@ namespace laserfit::controller {
 
 // A Cartesian motion of the assembling arm: the flange along `path` (A's base frame, mm, sampled
 // at the arm controller's rate; the loop plans it from the flange pose the arm reports), the elbow
-// pulled toward `q_ref` in the null space (the paper's IC1 / IC2 bias).
+// pulled toward `q_ref` in the null space (the paper's IC1 / IC2 bias). Guarded: where the part
+// meets resistance the arm stops and reports the contact (a descent toward a target whose distance
+// the scans could not fix); unguarded, a contact is a fault (the collision reflex).
 struct MotionCommand {
   robot::CartesianPath path;
   robot::Joints q_ref = robot::Joints::Zero();
+  bool guarded = false;
 };
 
 struct MotionReport {
@@ -28,6 +31,7 @@ struct MotionReport {
   std::string reason;                       // why not (a fault reported by the arm)
   robot::Joints q = robot::Joints::Zero();  // the joints the arm reports at the end
   double duration_s = 0;                    // the motion's duration, settling included
+  bool contact = false;                     // a guarded motion stopped at a contact (ok)
 };
 
 // A sweep of the sensing arm: to the joints `q_start` (its taught scan pose), back `lead_mm`

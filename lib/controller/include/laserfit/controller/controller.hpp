@@ -46,6 +46,10 @@ struct ControllerSettings {
   // each correction is verified by a scan of its own.
   bool fold = true;
   double fold_max_mm = 0;
+  // The laser strategies' moves are guarded: a part that meets the target's face stops there,
+  // which fixes its position along the axis where no scan could (a plug seen from behind); the
+  // loop backs off and goes on from the first stage. More contacts than this: refused.
+  int max_touches = 2;
   MotionLearningSettings learning;  // each move measured by the next scan corrects the next one
   size_t reference_points = 60000;
   double prior_radius_mm = 1.0;  // scan points this near a prior-placed reference are a
