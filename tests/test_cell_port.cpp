@@ -128,7 +128,12 @@ class RecordingCell : public controller::CellPort {
   explicit RecordingCell(controller::SimCell& sim) : sim_(sim) {}
   robot::Joints joints() override { return sim_.joints(); }
   controller::MotionReport move(const controller::MotionCommand& c) override {
-    return calls += 'm', sim_.move(c);
+    calls += 'm';
+    const auto r = sim_.move(c);
+    // How deep the part went past the mouth beside the hole (a part through the target's face).
+    if (const auto at = sim_.judge(); at && !at->success)
+      deepest_outside_mm = std::max(deepest_outside_mm, at->depth_mm);
+    return r;
   }
   controller::Sweep scan(const controller::SweepRequest& r) override {
     return calls += 's', sim_.scan(r);
@@ -139,6 +144,7 @@ class RecordingCell : public controller::CellPort {
     return sim_.true_error(goal);
   }
   std::string calls;
+  double deepest_outside_mm = -1e9;
 
  private:
   controller::SimCell& sim_;
@@ -164,4 +170,29 @@ TEST(CellPort, FoldedCorrectionsAreVerifiedByTheNextWaypointsScan) {
     EXPECT_EQ(cell.calls.find("mm"), std::string::npos) << cell.calls;
   }
   EXPECT_LT(scans[1], scans[0]);
+}
+
+// A guarded move that meets the target's face stops there; the loop then knows the part's depth
+// (which no scan of a plug fixes: its front faces away from the scanner), backs off and goes on.
+// A USB trial whose plug slipped 8 mm deeper in the gripper after teaching: the approach, planned
+// 6 mm above the mouth, touches the plate. Inserted (within the 50 um clearance, judged on the true
+// poses); after every motion the plug is at most 3x the arm's 50 um repeatability past the mouth's
+// 0.1 mm depth clearance unless it is in the socket (the simulated arm stops at the face, then
+// lands within its repeatability); the touch is followed by the back-off and a scan.
+TEST(CellPort, AGuardedMoveStopsAtTheFaceAndTheLoopBacksOff) {
+  const auto cs = cell::load_cell(kSource + "/cells/usb.yaml");
+  auto s = controller::settings_for(cs);
+  s.thresholds = registration::load_thresholds(kSource + "/reports/paper/thresholds_usb.yaml");
+  cell::Cell c{cs, 1};
+  const controller::SimSetup su = controller::prepare_setting(c, 0, s, 1);
+  c.T_flange_part_true = c.T_flange_part_true * Eigen::Translation3d(0, 0, 8);  // after teaching
+  controller::SimCell sim(c, su, 0, 9, s.motion);
+  RecordingCell cell(sim);
+  const auto o = controller::run_insertion(cell, c, su, controller::Strategy::Laser, 0, 9, s);
+  EXPECT_TRUE(o.success) << o.result;
+  EXPECT_NE(std::find(o.log.begin(), o.log.end(),
+                      "touched the target's face: backing off to 60 % of the way in"),
+            o.log.end());
+  EXPECT_LE(cell.deepest_outside_mm, c.s.clearance.depth_mm + 3 * c.s.arm_errors.repeatability_mm);
+  EXPECT_EQ(cell.calls.substr(0, 3), "mms") << cell.calls;  // the touch, the back-off, a scan
 }

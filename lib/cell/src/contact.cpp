@@ -36,14 +36,17 @@ std::optional<Contact> first_contact(const CellSettings& s, const Pose& T_world_
   const double length = (to.translation() - from.translation()).norm();
   const int n = std::max(1, int(std::ceil(length / step_mm)));
   const Eigen::Quaterniond q0(from.rotation()), q1(to.rotation());
+  // A part resting on the face (stopped there, then off by the arm's repeatability) may leave it:
+  // only a sample deeper than the start is blocked.
+  const double start_depth = check_insertion(s, T_world_target, from).depth_mm;
   Pose last = from;
-  for (int k = 0; k <= n; ++k) {
+  for (int k = 1; k <= n; ++k) {
     const double f = double(k) / n;
     Pose p = Pose::Identity();
     p.linear() = q0.slerp(f, q1).toRotationMatrix();
     p.translation() = (1 - f) * from.translation() + f * to.translation();
     const Insertion at = check_insertion(s, T_world_target, p);
-    if (blocked(s, face, at)) return Contact{last, f * length, at};
+    if (blocked(s, face, at) && at.depth_mm > start_depth) return Contact{last, f * length, at};
     last = p;
   }
   return std::nullopt;
