@@ -196,3 +196,24 @@ TEST(CellPort, AGuardedMoveStopsAtTheFaceAndTheLoopBacksOff) {
   EXPECT_LE(cell.deepest_outside_mm, c.s.clearance.depth_mm + 3 * c.s.arm_errors.repeatability_mm);
   EXPECT_EQ(cell.calls.substr(0, 3), "mms") << cell.calls;  // the touch, the back-off, a scan
 }
+
+// A cell that reports a contact on a motion the loop did not guard is not believed: the trial
+// stops as a cell fault, with the stop sent.
+TEST(CellPort, AContactOnAnUnguardedMotionIsAFault) {
+  struct Lying : RecordingCell {
+    using RecordingCell::RecordingCell;
+    controller::MotionReport move(const controller::MotionCommand& c) override {
+      auto r = RecordingCell::move(c);
+      r.contact = true;
+      return r;
+    }
+  };
+  Trial t;
+  controller::SimCell sim(t.c, t.su, 0, 9, t.s.motion);
+  Lying cell(sim);
+  const auto o =
+      controller::run_insertion(cell, t.c, t.su, controller::Strategy::ProprioIC1, 0, 9, t.s);
+  EXPECT_TRUE(o.cell_fault);
+  EXPECT_NE(o.result.find("a contact on an unguarded motion"), std::string::npos) << o.result;
+  EXPECT_EQ(cell.calls, "mx");
+}
