@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # `run` over the cell protocol against `cell-sim` vs `sim` in one process, on the same trials:
 # prints how many outcomes agree (every field and log line but the wall-clock times).
-#   reports/cell/wire_vs_sim.sh CELL TRIALS STRATEGIES [BUILD]
+#   reports/cell/wire_vs_sim.sh CELL TRIALS STRATEGIES [BUILD] [FIRST]
 # e.g. reports/cell/wire_vs_sim.sh needle 30 ic1,laser_pose
+#      reports/cell/wire_vs_sim.sh usb 3 laser_pose build 40   (trials 40-42: each touches the plate)
 set -euo pipefail
-cell=$1 trials=$2 strategies=$3 bin=${4:-build}/bin/laserfit-controller
+cell=$1 trials=$2 strategies=$3 bin=${4:-build}/bin/laserfit-controller first=${5:-0}
 cd "$(dirname "$0")/../.."
 out=$(mktemp -d)
 trap 'kill $server 2>/dev/null || true; rm -rf "$out"' EXIT
@@ -13,7 +14,7 @@ server=$!
 until grep -q port "$out/server.txt" 2>/dev/null; do sleep 0.1; done
 port=$(grep -o 'port [0-9]*' "$out/server.txt" | cut -d' ' -f2)
 common=(--cell "cells/$cell.yaml" --thresholds "reports/paper/thresholds_$cell.yaml"
-        --strategy "$strategies" --trials "$trials")
+        --strategy "$strategies" --trials "$trials" --first "$first")
 "$bin" run --cell-endpoint "127.0.0.1:$port" "${common[@]}" --quiet -o "$out/run.jsonl"
 "$bin" sim "${common[@]}" --jobs 2 --quiet -o "$out/sim.jsonl" > /dev/null
 /usr/bin/python3 - "$out/run.jsonl" "$out/sim.jsonl" <<'PY'
