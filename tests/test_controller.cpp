@@ -121,6 +121,27 @@ TEST(Controller, ContactStopsAPartAtTheTargetsFace) {
   EXPECT_FALSE(cell::first_contact(cs, target, at(2.6, -6), at(2.6, cs.clearance.depth_mm)));
 }
 
+// The needle is a thin body, not a half-space: a thread beside its eye is stopped at the needle's
+// near face, but one already past its far face moves on (the eye is 0.7 mm deep). Tolerance: the
+// stop lies within one 0.1 mm sample of the near face plus the depth clearance.
+TEST(Controller, ContactOnlyInsideTheTargetsBody) {
+  const auto cs = cell::load_cell(kCells + "needle.yaml");
+  const Pose target = cs.target_poses[0];
+  auto at = [&](double x, double z) {
+    Pose p = target * cs.T_target_part_insert;
+    p.translation() += target.linear() * Eigen::Vector3d(x, 0, z);
+    return p;
+  };
+  const auto hit = cell::first_contact(cs, target, at(0.8, 2), at(0.8, -2));  // target z: up
+  ASSERT_TRUE(hit.has_value());
+  const double near_face = -0.35;  // the eye's mouth, half the 0.7 mm depth above its centre
+  const double stopped = cell::check_insertion(cs, target, hit->T_world_part).depth_mm;
+  EXPECT_LE(stopped, near_face + cs.clearance.depth_mm);
+  EXPECT_GT(stopped, near_face + cs.clearance.depth_mm - 0.1 - 1e-9);
+  EXPECT_FALSE(cell::first_contact(cs, target, at(0.8, -1), at(0.8, -3)));   // past the far face
+  EXPECT_FALSE(cell::first_contact(cs, target, at(-1.2, 2), at(-1.2, -2)));  // beyond its end
+}
+
 // Tolerance: the nominal flange ends within 1 um / 1e-5 rad of the goal.
 TEST(Controller, CartesianMotionReachesItsGoal) {
   const auto arm = robot::ArmModel::panda();

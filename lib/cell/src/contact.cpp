@@ -11,20 +11,25 @@
 namespace laserfit::cell {
 namespace {
 
-// The target's extent across the insertion axis (insertion frame, mm): where its face stops a part.
-Eigen::AlignedBox2d face_extent(const CellSettings& s) {
+// The target's extent in the insertion frame (mm): across the axis, where its face stops a part;
+// along it, how deep its body reaches (a needle is 0.7 mm thick, a receptacle 12.5 mm deep).
+Eigen::AlignedBox3d body_extent(const CellSettings& s) {
   const auto& mesh = s.scene.objects[s.target].mesh;
   const Pose to_insertion = s.T_target_part_insert.inverse();
-  Eigen::AlignedBox2d box;
-  for (const auto& v : mesh.vertices) box.extend((to_insertion * v.cast<double>()).head<2>());
+  Eigen::AlignedBox3d box;
+  for (const auto& v : mesh.vertices) box.extend(to_insertion * v.cast<double>());
   return box;
 }
 
-bool blocked(const CellSettings& s, const Eigen::AlignedBox2d& face, const Insertion& at) {
+// The part's front inside the target's body (past its near face by more than the depth clearance,
+// not beyond its far face) where its axis crosses the face outside the hole.
+bool blocked(const CellSettings& s, const Eigen::AlignedBox3d& body, const Insertion& at) {
   const bool in_hole =
       std::abs(at.x_mm) <= s.clearance.x_mm && std::abs(at.y_mm) <= s.clearance.y_mm;
-  return at.depth_mm > s.clearance.depth_mm && !in_hole &&
-         face.contains(Eigen::Vector2d(at.x_mm, at.y_mm));
+  const bool across = at.x_mm >= body.min().x() && at.x_mm <= body.max().x() &&
+                      at.y_mm >= body.min().y() && at.y_mm <= body.max().y();
+  return !in_hole && across && at.depth_mm > body.min().z() + s.clearance.depth_mm &&
+         at.depth_mm <= body.max().z();
 }
 
 }  // namespace
@@ -32,7 +37,7 @@ bool blocked(const CellSettings& s, const Eigen::AlignedBox2d& face, const Inser
 std::optional<Contact> first_contact(const CellSettings& s, const Pose& T_world_target,
                                      const Pose& from, const Pose& to, double step_mm) {
   if (s.target < 0 || s.scene.objects[s.target].mesh.vertices.empty()) return std::nullopt;
-  const Eigen::AlignedBox2d face = face_extent(s);
+  const Eigen::AlignedBox3d body = body_extent(s);
   const double length = (to.translation() - from.translation()).norm();
   const int n = std::max(1, int(std::ceil(length / step_mm)));
   const Eigen::Quaterniond q0(from.rotation()), q1(to.rotation());
@@ -46,7 +51,7 @@ std::optional<Contact> first_contact(const CellSettings& s, const Pose& T_world_
     p.linear() = q0.slerp(f, q1).toRotationMatrix();
     p.translation() = (1 - f) * from.translation() + f * to.translation();
     const Insertion at = check_insertion(s, T_world_target, p);
-    if (blocked(s, face, at) && at.depth_mm > start_depth) return Contact{last, f * length, at};
+    if (blocked(s, body, at) && at.depth_mm > start_depth) return Contact{last, f * length, at};
     last = p;
   }
   return std::nullopt;

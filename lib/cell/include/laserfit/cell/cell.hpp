@@ -100,11 +100,11 @@ Insertion check_insertion(const CellSettings& s, const Pose& T_world_target,
                           const Pose& T_world_part);
 
 // Where a rigid part moving from `from` to `to` (true poses, world; a straight line, the rotation
-// slerped, sampled every `step_mm`) first runs into the target: its front carried more than the
-// depth clearance past the insertion point while its axis crosses the target's face (the target
-// mesh's extent across the axis) outside the hole's clearance, deeper than it started (a part
-// resting on the face may leave it). The part stops at the last free sample, `travelled_mm` along
-// the way (a real arm's collision reflex). None: the way is free.
+// slerped, sampled every `step_mm`) first runs into the target: its front inside the target's body
+// (the target mesh's extent in the insertion frame: past its near face by more than the depth
+// clearance, not beyond its far face) while its axis crosses that face outside the hole's
+// clearance, deeper than it started (a part resting on the face may leave it). The part stops at
+// the last free sample, `travelled_mm` along the way (a real arm's collision reflex). None: free.
 struct Contact {
   Pose T_world_part;
   double travelled_mm = 0;
