@@ -217,3 +217,36 @@ TEST(CellPort, AContactOnAnUnguardedMotionIsAFault) {
   EXPECT_NE(o.result.find("a contact on an unguarded motion"), std::string::npos) << o.result;
   EXPECT_EQ(cell.calls, "mx");
 }
+
+// What a trial learns of the arm's moves is handed to the next in the same cell: the memory holds
+// one observation per move the trial logged as learned, and the next trial says it starts from
+// them (its scans then fail, to keep the test short). The first, with an empty memory, does not.
+TEST(CellPort, WhatATrialLearnsCarriesToTheNext) {
+  Trial t(true);
+  t.s.max_rounds = 2;  // one correction verified by a scan: a move to learn from
+  controller::MotionErrorModel memory(t.s.learning);
+  controller::SimCell first(t.c, t.su, 0, 9, t.s.motion);
+  const auto a =
+      controller::run_insertion(first, t.c, t.su, controller::Strategy::Laser, 0, 9, t.s, &memory);
+  const auto learned = std::count_if(a.log.begin(), a.log.end(), [](const std::string& l) {
+    return l.find(": learned (") != std::string::npos;
+  });
+  ASSERT_GT(learned, 0) << a.result;
+  EXPECT_EQ(memory.observations(), learned);
+  struct Blind : RecordingCell {
+    using RecordingCell::RecordingCell;
+    controller::Sweep scan(const controller::SweepRequest&) override {
+      controller::Sweep s;
+      s.fault = "the scanner is off";
+      return s;
+    }
+  };
+  controller::SimCell sim(t.c, t.su, 1, 10, t.s.motion);
+  Blind second(sim);
+  const auto b = controller::run_insertion(second, t.c, t.su, controller::Strategy::Laser, 1, 10,
+                                           t.s, &memory);
+  const std::string line =
+      "moves corrected by what " + std::to_string(learned) + " earlier moves in this cell taught";
+  EXPECT_NE(std::find(b.log.begin(), b.log.end(), line), b.log.end());
+  EXPECT_EQ(std::find(a.log.begin(), a.log.end(), line), a.log.end());
+}

@@ -1,6 +1,7 @@
 // laserfit-controller run --cell-endpoint HOST:PORT --cell C.yaml --thresholds T.yaml
 //   --strategy laser_pose [--trials N --first I --seed S] [-o outcomes.jsonl]
 #include <iostream>
+#include <map>
 #include <sstream>
 
 #include "commands.hpp"
@@ -17,7 +18,7 @@ struct Options {
   int trials = 1, first = 0;
   uint64_t seed = 1;
   double timeout_s = 10;
-  bool quiet = false, verify_each = false;
+  bool quiet = false, verify_each = false, forget = false;
 };
 
 int run(const Options& o) {
@@ -35,6 +36,9 @@ int run(const Options& o) {
   Campaign campaign(cs, s, o.seed);
   std::string lines;
   int inserted = 0, done = 0;
+  // What each arm pair's earlier trials taught, per strategy (a real cell is one pair; a
+  // simulated one changes pairs with the trial index, as sim does).
+  std::map<std::pair<int, Strategy>, MotionErrorModel> learned;
   for (int i = o.first; i < o.first + o.trials; ++i)
     for (const Strategy st : strategies) {
       // The taught poses and references are the cell file's; a simulated cell is reset to the
@@ -47,8 +51,12 @@ int run(const Options& o) {
           throw Error("cell " + o.endpoint + ": trial " + std::to_string(i) +
                       " is set up differently there (another cell file?)");
       }
-      const Outcome x = run_insertion(cell, campaign.cell(t.robot),
-                                      campaign.setup(t.robot, t.setting), st, t.start, t.seed, s);
+      MotionErrorModel fresh(s.learning);
+      auto& memory =
+          o.forget ? fresh : learned.try_emplace({t.robot, st}, s.learning).first->second;
+      const Outcome x =
+          run_insertion(cell, campaign.cell(t.robot), campaign.setup(t.robot, t.setting), st,
+                        t.start, t.seed, s, &memory);
       lines += outcome_json(x).dump() + "\n";
       inserted += x.success, ++done;
       if (!o.quiet)
@@ -90,6 +98,7 @@ Command add_run(CLI::App& root) {
   app->add_option("-o,--output,--out", o->out,
                   "every trial's outcome and decision log (JSON Lines)");
   add_verify_each_flag(*app, o->verify_each);
+  add_forget_flag(*app, o->forget);
   app->add_flag("--quiet", o->quiet, "no progress on stderr");
   return {app, [o] { return run(*o); }};
 }

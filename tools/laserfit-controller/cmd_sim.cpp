@@ -18,8 +18,45 @@ struct Options {
   std::string cell, thresholds, strategies = "ic1,ic2,laser", out, dump;
   int trials = 0, first = 0, jobs = 1;
   uint64_t seed = 1;
-  bool json = false, quiet = false, verify_each = false;
+  bool json = false, quiet = false, verify_each = false, forget = false;
 };
+
+// The trials, each arm pair's in order on one thread (a trial starts from what the pair's earlier
+// trials of the same strategy taught), the pairs in parallel: the same outcomes for any --jobs.
+std::vector<controller::Outcome> run_trials(const Options& o, const cell::CellSettings& cs,
+                                            const controller::ControllerSettings& s,
+                                            const std::vector<controller::Strategy>& strategies,
+                                            int trials) {
+  using namespace controller;
+  Campaign campaign(cs, s, o.seed);
+  std::map<int, std::vector<int>> pairs;  // robot -> its trials, in order
+  for (int i = o.first; i < o.first + trials; ++i) {
+    const TrialPlan t = plan_trial(cs, o.seed, i);
+    campaign.prepare(t);
+    pairs[t.robot].push_back(i);
+  }
+  std::vector<std::vector<int>> chains;
+  for (auto& [robot, c] : pairs) chains.push_back(c);
+  std::vector<Outcome> out(trials * strategies.size());
+  size_t done = 0;
+  std::mutex m;
+  parallel_for(chains.size(), o.jobs, [&](size_t c) {
+    std::vector<MotionErrorModel> learned(strategies.size(), MotionErrorModel(s.learning));
+    for (const int i : chains[c])
+      for (size_t k = 0; k < strategies.size(); ++k) {
+        const TrialPlan t = plan_trial(cs, o.seed, i);
+        MotionErrorModel fresh(s.learning);
+        out[(i - o.first) * strategies.size() + k] =
+            run_insertion(campaign.cell(t.robot), campaign.setup(t.robot, t.setting), strategies[k],
+                          t.start, t.seed, s, o.forget ? &fresh : &learned[k]);
+        std::lock_guard<std::mutex> l(m);
+        ++done;
+        if (!o.quiet) std::cerr << "\rsim: " << done << "/" << out.size() << std::flush;
+      }
+  });
+  if (!o.quiet) std::cerr << "\r";
+  return out;
+}
 
 int run(const Options& o) {
   using namespace controller;
@@ -37,20 +74,7 @@ int run(const Options& o) {
   }
   const int trials = o.trials > 0 ? o.trials : int(cs.target_poses.size()) * cs.start_configs;
   if (o.first < 0) throw Error("--first must be >= 0");
-  Campaign campaign(cs, s, o.seed);
-  for (int i = o.first; i < o.first + trials; ++i) campaign.prepare(plan_trial(cs, o.seed, i));
-  std::vector<Outcome> out(trials * strategies.size());
-  size_t done = 0;
-  std::mutex m;
-  parallel_for(out.size(), o.jobs, [&](size_t k) {
-    const TrialPlan t = plan_trial(cs, o.seed, o.first + int(k / strategies.size()));
-    out[k] = run_insertion(campaign.cell(t.robot), campaign.setup(t.robot, t.setting),
-                           strategies[k % strategies.size()], t.start, t.seed, s);
-    std::lock_guard<std::mutex> l(m);
-    ++done;
-    if (!o.quiet) std::cerr << "\rsim: " << done << "/" << out.size() << std::flush;
-  });
-  if (!o.quiet) std::cerr << "\r";
+  const std::vector<Outcome> out = run_trials(o, cs, s, strategies, trials);
   std::map<std::string, std::pair<int, int>> rate;  // strategy -> (successes, trials)
   std::map<std::string, std::map<int, std::pair<int, int>>> by_setting;
   std::string lines;
@@ -109,12 +133,14 @@ Command add_sim(CLI::App& root) {
       ->capture_default_str();
   app->add_option("--seed", o->seed, "seed of the arms' errors, noise and scans")
       ->capture_default_str();
-  app->add_option("--jobs", o->jobs, "trials in parallel")->capture_default_str();
+  app->add_option("--jobs", o->jobs, "arm pairs in parallel (each pair's trials run in order)")
+      ->capture_default_str();
   app->add_option("-o,--output,--out", o->out,
                   "write every trial's outcome and decision log here (JSON Lines)");
   app->add_option("--dump", o->dump,
                   "write every scan and the reference clouds here (to look at them)");
   add_verify_each_flag(*app, o->verify_each);
+  add_forget_flag(*app, o->forget);
   app->add_flag("--quiet", o->quiet, "no progress on stderr");
   app->add_flag("--json", o->json, "machine-readable summary on stdout");
   return {app, [o] { return run(*o); }};

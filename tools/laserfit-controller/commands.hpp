@@ -19,4 +19,12 @@ inline CLI::Option* add_verify_each_flag(CLI::App& app, bool& verify_each) {
                       "2.5x the cell's clearance)");
 }
 
+// --forget, shared by sim and run: the arm's move error is learned per trial only.
+inline CLI::Option* add_forget_flag(CLI::App& app, bool& forget) {
+  return app.add_flag("--forget", forget,
+                      "each trial starts knowing nothing of the arm's move error (default: it "
+                      "starts from what the earlier trials on the same arm pair taught; the first "
+                      "trial run knows nothing)");
+}
+
 }  // namespace laserfit::ctl

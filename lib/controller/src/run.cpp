@@ -31,11 +31,12 @@ std::string fmt(double v) {
 class Loop {
  public:
   Loop(CellPort& cell, const cell::Cell& c, const SimSetup& su, Strategy strategy, int start,
-       uint64_t seed, const ControllerSettings& s)
-      : cell_(cell), c_(c), su_(su), s_(s), seed_(seed) {
+       uint64_t seed, const ControllerSettings& s, const MotionErrorModel& learned)
+      : cell_(cell), c_(c), su_(su), s_(s), seed_(seed), learned_(learned) {
     o_.strategy = strategy, o_.setting = su.setting, o_.start = start, o_.seed = seed;
   }
   Outcome run();
+  const MotionErrorModel& learned() const { return learned_; }
 
  private:
   Outcome attempt();
@@ -72,9 +73,10 @@ class Loop {
   bool contact_ = false;             // the last (guarded) move stopped on the target's face
   bool turn_ = true;                 // the next correction turns the part too (pose strategy)
   int touches_ = 0;
-  MotionErrorModel learned_{s_.learning};
+  MotionErrorModel learned_;  // the arm's move error, world frame: this cell's earlier moves on
   std::optional<Eigen::Vector3d> measured_at_;  // the part's origin at the last measurement
   Eigen::Vector3d commanded_ = Eigen::Vector3d::Zero();  //   and the moves commanded since
+  Eigen::Vector3d turned_ = Eigen::Vector3d::Zero();     //   with their turns (rad; target frame)
   void learn(bool position_measured);
   std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
   double in_cell_s_ = 0;  // wall-clock time spent inside the cell's calls
@@ -119,9 +121,11 @@ bool Loop::shift(const Pose& delta, double min_duration_s) {
     const Eigen::Matrix3d R = m_.T_scan_target.linear();
     const Eigen::Vector3d o = m_.T_scan_target * tracked_part_->translation();
     const Eigen::Vector3d wanted = R.transpose() * (delta * o - o);
-    const Eigen::Vector3d c = learned_.command_for(wanted);
+    const Eigen::AngleAxisd turn(delta.linear());
+    const Eigen::Vector3d w = turn.angle() * turn.axis();
+    const Eigen::Vector3d c = R.transpose() * learned_.command_for(R * wanted, w);
     command.pretranslate(R * (c - wanted));
-    commanded_ += c;
+    commanded_ += c, turned_ += R.transpose() * w;
   }
   if (!move(B.inverse() * command * B * c_.nominal.fk(hold), hold, ms, true)) return false;
   if (tracked_part_)
@@ -202,6 +206,9 @@ Outcome Loop::attempt() {
   if (!move(c_.flange_for_part(su_.T_world_target_believed * approach), q_ref, s_.motion, true))
     return refuse(why_);
   o_.log.push_back("approach with IC2 from start " + std::to_string(o_.start + 1));
+  if (learned_.observations() > 0)
+    o_.log.push_back("moves corrected by what " + std::to_string(learned_.observations()) +
+                     " earlier moves in this cell taught");
   way_ = approach;
   return stages() ? finish() : refuse(why_);
 }
@@ -267,7 +274,8 @@ bool Loop::touched(const std::vector<double>& fractions, size_t& w) {
                                         : su_.T_world_target_believed.inverse() *
                                               c_.part_believed(cell_.joints()));
   way_ = on_face(way_);
-  measured_at_.reset(), commanded_.setZero();  // the interrupted move teaches nothing
+  // The interrupted move teaches nothing.
+  measured_at_.reset(), commanded_.setZero(), turned_.setZero();
   pending_ = Pose::Identity(), pending_mm_ = 0;
   turn_ = true;  // the interrupted move had not finished turning the part
   w = std::min<size_t>(1, fractions.size() - 1);
@@ -384,14 +392,15 @@ void Loop::learn(bool position_measured) {
     const Eigen::Vector3d axis = c_.s.T_target_part_insert.linear().col(2);
     Eigen::Vector3d error = at - *measured_at_ - commanded_;
     error -= axis * axis.dot(error);
-    const bool used = learned_.observe(commanded_, error);
+    const Eigen::Matrix3d& R = m_.T_scan_target.linear();  // a frame fixed to the arm's base
+    const bool used = learned_.observe(R * commanded_, R * turned_, R * error);
     o_.log.push_back("the arm's move of " + fmt(commanded_.norm() * 1e3) + " um landed " +
                      fmt(error.norm() * 1e3) + " um off it across the axis: " +
                      (used ? "learned (" + std::to_string(learned_.observations()) + " moves)"
                            : "not learned from (a mismeasured move)"));
   }
   measured_at_ = position_measured ? std::optional<Eigen::Vector3d>(at) : std::nullopt;
-  commanded_.setZero();
+  commanded_.setZero(), turned_.setZero();
 }
 
 // One sweep, assembled into the cloud registration takes (A's believed world frame) exactly as
@@ -424,34 +433,19 @@ void Loop::dump(const PointCloud& scan) const {
 }  // namespace
 
 Outcome run_insertion(CellPort& cell, const cell::Cell& c, const SimSetup& su, Strategy strategy,
-                      int start, uint64_t seed, const ControllerSettings& s) {
-  return Loop(cell, c, su, strategy, start, seed, s).run();
+                      int start, uint64_t seed, const ControllerSettings& s,
+                      MotionErrorModel* learned) {
+  Loop loop(cell, c, su, strategy, start, seed, s,
+            learned ? *learned : MotionErrorModel(s.learning));
+  Outcome o = loop.run();
+  if (learned) *learned = loop.learned();
+  return o;
 }
 
 Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy, int start,
-                      uint64_t seed, const ControllerSettings& s) {
+                      uint64_t seed, const ControllerSettings& s, MotionErrorModel* learned) {
   SimCell cell(c, su, start, seed, s.motion);
-  return run_insertion(cell, c, su, strategy, start, seed, s);
-}
-
-io::Json outcome_json(const Outcome& o) {
-  return {{"strategy", strategy_name(o.strategy)},
-          {"setting", o.setting},
-          {"start", o.start + 1},
-          {"seed", o.seed},
-          {"success", o.success},
-          {"result", o.result},
-          {"lateral_um", {o.insertion.x_mm * 1e3, o.insertion.y_mm * 1e3}},
-          {"angle_deg", o.insertion.angle_deg},
-          {"depth_um", o.insertion.depth_mm * 1e3},
-          {"scans", o.scans},
-          {"rounds", o.rounds},
-          {"time_s", o.time_s},
-          {"cell_time_s", o.cell_time_s},
-          {"compute_s", o.compute_s},
-          {"completion_s", o.completion_s},
-          {"cell_fault", o.cell_fault},
-          {"log", o.log}};
+  return run_insertion(cell, c, su, strategy, start, seed, s, learned);
 }
 
 }  // namespace laserfit::controller

@@ -89,10 +89,14 @@ class SimCell : public CellPort {
 uint64_t scan_seed(uint64_t trial_seed, int n);
 
 // The on-line loop against any cell: `c` is the cell's model (nominal kinematics and believed
-// calibration; its true parts are not read), `su` its taught poses and references.
+// calibration; its true parts are not read), `su` its taught poses and references. `learned`,
+// when given, is what the earlier insertions in this cell taught about the assembling arm's moves
+// (motion_error.hpp, world frame): the trial starts from it and leaves its own moves in
+// it, as an operator's cell learns. Without it every trial starts knowing nothing.
 struct Outcome;
 Outcome run_insertion(CellPort& cell, const cell::Cell& c, const SimSetup& su, Strategy strategy,
-                      int start, uint64_t seed, const ControllerSettings& s);
+                      int start, uint64_t seed, const ControllerSettings& s,
+                      MotionErrorModel* learned = nullptr);
 
 struct Outcome {
   Strategy strategy = Strategy::ProprioIC1;
@@ -111,7 +115,8 @@ struct Outcome {
   std::vector<std::string> log;
 };
 Outcome run_insertion(const cell::Cell& c, const SimSetup& su, Strategy strategy, int start,
-                      uint64_t seed, const ControllerSettings& s);
+                      uint64_t seed, const ControllerSettings& s,
+                      MotionErrorModel* learned = nullptr);
 io::Json outcome_json(const Outcome& o);
 
 // The sweep the loop asks for: the scene's, from the taught scan pose; sweep_mm > the scene's
