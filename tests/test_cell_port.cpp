@@ -197,6 +197,25 @@ TEST(CellPort, AGuardedMoveStopsAtTheFaceAndTheLoopBacksOff) {
   EXPECT_EQ(cell.calls.substr(0, 3), "mms") << cell.calls;  // the touch, the back-off, a scan
 }
 
+// The last move goes on past the insertion pose by the cell's push_mm, guarded: the USB plug ends
+// inside its socket by the push, to within the 0.7 mm a plug seen from behind can be left off
+// along its axis, and inserted (judged on the true poses: 50 um, 1 deg, entered). Set down at the
+// mouth, as before the push, it would end within 0.7 mm of depth 0, outside this window.
+TEST(CellPort, ThePlugIsPushedIntoItsSocket) {
+  auto cs = cell::load_cell(kSource + "/cells/usb.yaml");
+  ASSERT_EQ(cs.push_mm, 2.0);
+  auto s = controller::settings_for(cs);
+  s.thresholds = registration::load_thresholds(kSource + "/reports/paper/thresholds_usb.yaml");
+  cell::Cell c{cs, 1};
+  const controller::SimSetup su = controller::prepare_setting(c, 0, s, 1);
+  controller::SimCell sim(c, su, 0, 9, s.motion);
+  RecordingCell cell(sim);
+  const auto o = controller::run_insertion(cell, c, su, controller::Strategy::LaserPose, 0, 9, s);
+  EXPECT_TRUE(o.success) << o.result;
+  EXPECT_NEAR(o.insertion.depth_mm, cs.push_mm, 0.7);
+  EXPECT_EQ(cell.calls.back(), 'm') << cell.calls;
+}
+
 // A cell that reports a contact on a motion the loop did not guard is not believed: the trial
 // stops as a cell fault, with the stop sent.
 TEST(CellPort, AContactOnAnUnguardedMotionIsAFault) {

@@ -33,6 +33,15 @@ Pose seen_at(const cell::Cell& c, const robot::Joints& q, const Pose& T_world_se
              const Pose& T_world_part) {
   return T_world_sensor * (c.trueS.fk(q) * c.T_flange_sensor_true).inverse() * T_world_part;
 }
+
+// The part at its insertion pose in the first target pose, moved x across and z along the
+// target's axis (mm, target frame).
+Pose part_at(const cell::CellSettings& cs, double x, double z) {
+  const Pose& target = cs.target_poses[0];
+  Pose p = target * cs.T_target_part_insert;
+  p.translation() += target.linear() * Eigen::Vector3d(x, 0, z);
+  return p;
+}
 }  // namespace
 
 TEST(Controller, CellFilesLoadAndBadOnesNameTheProblem) {
@@ -52,7 +61,8 @@ TEST(Controller, CellFilesLoadAndBadOnesNameTheProblem) {
       {"start_configs: 10", "start_confgs: 10", "unknown key"},
       {"base_error: [0.8, -0.5, 0.3,", "base_error: [80, -0.5, 0.3,", "not a calibration error"},
       {"max_correction_mm: 16", "max_correction_mm: 0", "max_correction_mm"},
-      {"search_sweep_mm: 32", "search_sweep_mm: 2", "search_sweep_mm"}};
+      {"search_sweep_mm: 32", "search_sweep_mm: 2", "search_sweep_mm"},
+      {"stages: [0.6, 0.9]", "stages: [0.6, 0.9]\n  push_mm: 25", "push_mm"}};
   for (const auto& [from, to, what] : cases) {
     std::string t = text;
     ASSERT_NE(t.find(from), std::string::npos) << from;
@@ -103,11 +113,7 @@ TEST(Controller, InsertionCheckUsesTheClearanceAtTheMouth) {
 TEST(Controller, ContactStopsAPartAtTheTargetsFace) {
   const auto cs = cell::load_cell(kCells + "usb.yaml");
   const Pose target = cs.target_poses[0];
-  auto at = [&](double x, double z) {
-    Pose p = target * cs.T_target_part_insert;
-    p.translation() += target.linear() * Eigen::Vector3d(x, 0, z);
-    return p;
-  };
+  auto at = [&](double x, double z) { return part_at(cs, x, z); };
   const auto hit = cell::first_contact(cs, target, at(2.6, -6), at(2.6, 2));
   ASSERT_TRUE(hit.has_value());
   EXPECT_NEAR(hit->travelled_mm, 6 + cs.clearance.depth_mm, 0.1 + 1e-9);
@@ -127,11 +133,7 @@ TEST(Controller, ContactStopsAPartAtTheTargetsFace) {
 TEST(Controller, ContactOnlyInsideTheTargetsBody) {
   const auto cs = cell::load_cell(kCells + "needle.yaml");
   const Pose target = cs.target_poses[0];
-  auto at = [&](double x, double z) {
-    Pose p = target * cs.T_target_part_insert;
-    p.translation() += target.linear() * Eigen::Vector3d(x, 0, z);
-    return p;
-  };
+  auto at = [&](double x, double z) { return part_at(cs, x, z); };
   const auto hit = cell::first_contact(cs, target, at(0.8, 2), at(0.8, -2));  // target z: up
   ASSERT_TRUE(hit.has_value());
   const double near_face = -0.35;  // the eye's mouth, half the 0.7 mm depth above its centre
@@ -140,6 +142,25 @@ TEST(Controller, ContactOnlyInsideTheTargetsBody) {
   EXPECT_GT(stopped, near_face + cs.clearance.depth_mm - 0.1 - 1e-9);
   EXPECT_FALSE(cell::first_contact(cs, target, at(0.8, -1), at(0.8, -3)));   // past the far face
   EXPECT_FALSE(cell::first_contact(cs, target, at(-1.2, 2), at(-1.2, -2)));  // beyond its end
+}
+
+// A part that entered the hole within its clearance is held by the walls: a push that drifts
+// 0.2 mm sideways (the 50 um USB clearance, an arm whose model is off) meets no contact, and the
+// part ends against the wall: its axis at the clearance (to 1e-9 mm), its depth kept (1e-9 mm).
+// One that arrives beside the hole still meets the face.
+TEST(Controller, TheHolesWallsGuideAPartThatEntered) {
+  const auto cs = cell::load_cell(kCells + "usb.yaml");
+  const Pose target = cs.target_poses[0];
+  bool entered = false;
+  const Pose end = part_at(cs, 0.2, 2);
+  EXPECT_FALSE(cell::first_contact(cs, target, part_at(cs, 0, -0.5), end, 0.1, &entered));
+  EXPECT_TRUE(entered);
+  const cell::Insertion held = cell::check_insertion(cs, target, cell::guided(cs, target, end));
+  EXPECT_NEAR(held.x_mm, cs.clearance.x_mm, 1e-9);
+  EXPECT_NEAR(held.depth_mm, 2, 1e-9);
+  EXPECT_TRUE(held.success);
+  EXPECT_TRUE(cell::first_contact(cs, target, part_at(cs, 0.2, -0.5), end, 0.1, &entered));
+  EXPECT_FALSE(entered);
 }
 
 // Tolerance: the nominal flange ends within 1 um / 1e-5 rad of the goal.

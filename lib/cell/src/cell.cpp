@@ -53,7 +53,7 @@ Insertion check_insertion(const CellSettings& s, const Pose& T_world_target,
       Q.linear().transpose() * (P.translation() + lambda * d - Q.translation());
   r.x_mm = c.x(), r.y_mm = c.y();
   // Aligned is not inserted: a tip that stopped above the mouth has not entered (the laser
-  // strategy's last move goes to the measured insertion point, nothing pushes further).
+  // strategy's last move goes to the measured insertion point, pushed on only by push_mm).
   r.success = std::abs(r.x_mm) <= s.clearance.x_mm && std::abs(r.y_mm) <= s.clearance.y_mm &&
               r.angle_deg <= s.clearance.angle_deg && r.depth_mm >= -s.clearance.depth_mm;
   return r;

@@ -71,7 +71,8 @@ static CellSettings load_cell_unguarded(const std::string& path) {
 
   const auto ins = R.need(root, "insertion", "cell");
   R.only(ins, "insertion",
-         {"part_in_target", "approach_mm", "stages", "max_correction_mm", "max_correction_deg"});
+         {"part_in_target", "approach_mm", "stages", "push_mm", "max_correction_mm",
+          "max_correction_deg"});
   c.T_target_part_insert =
       R.pose(R.need(ins, "part_in_target", "insertion"), "insertion.part_in_target");
   const auto ap = R.list(R.need(ins, "approach_mm", "insertion"), "insertion.approach_mm");
@@ -84,6 +85,9 @@ static CellSettings load_cell_unguarded(const std::string& path) {
       if (!(c.stages[i] > (i ? c.stages[i - 1] : 0.0) && c.stages[i] < 1))
         R.fail("insertion.stages", "fractions must increase strictly within (0, 1)");
   }
+  c.push_mm = R.num(ins, "push_mm", c.push_mm, "insertion");
+  if (!(c.push_mm >= 0 && c.push_mm <= 20))
+    R.fail("insertion.push_mm", "the push past the insertion pose must be in [0, 20] mm");
   c.max_correction_mm = R.num(ins, "max_correction_mm", c.max_correction_mm, "insertion");
   c.max_correction_deg = R.num(ins, "max_correction_deg", c.max_correction_deg, "insertion");
   if (!(c.max_correction_mm > 0 && c.max_correction_mm <= 50))

@@ -21,21 +21,25 @@ Eigen::AlignedBox3d body_extent(const CellSettings& s) {
   return box;
 }
 
+bool in_hole(const CellSettings& s, const Insertion& at) {
+  return std::abs(at.x_mm) <= s.clearance.x_mm && std::abs(at.y_mm) <= s.clearance.y_mm;
+}
+
 // The part's front inside the target's body (past its near face by more than the depth clearance,
 // not beyond its far face) where its axis crosses the face outside the hole.
 bool blocked(const CellSettings& s, const Eigen::AlignedBox3d& body, const Insertion& at) {
-  const bool in_hole =
-      std::abs(at.x_mm) <= s.clearance.x_mm && std::abs(at.y_mm) <= s.clearance.y_mm;
   const bool across = at.x_mm >= body.min().x() && at.x_mm <= body.max().x() &&
                       at.y_mm >= body.min().y() && at.y_mm <= body.max().y();
-  return !in_hole && across && at.depth_mm > body.min().z() + s.clearance.depth_mm &&
+  return !in_hole(s, at) && across && at.depth_mm > body.min().z() + s.clearance.depth_mm &&
          at.depth_mm <= body.max().z();
 }
 
 }  // namespace
 
 std::optional<Contact> first_contact(const CellSettings& s, const Pose& T_world_target,
-                                     const Pose& from, const Pose& to, double step_mm) {
+                                     const Pose& from, const Pose& to, double step_mm,
+                                     bool* entered) {
+  if (entered) *entered = false;
   if (s.target < 0 || s.scene.objects[s.target].mesh.vertices.empty()) return std::nullopt;
   const Eigen::AlignedBox3d body = body_extent(s);
   const double length = (to.translation() - from.translation()).norm();
@@ -51,10 +55,24 @@ std::optional<Contact> first_contact(const CellSettings& s, const Pose& T_world_
     p.linear() = q0.slerp(f, q1).toRotationMatrix();
     p.translation() = (1 - f) * from.translation() + f * to.translation();
     const Insertion at = check_insertion(s, T_world_target, p);
+    if (in_hole(s, at) && at.depth_mm >= -s.clearance.depth_mm) {
+      if (entered) *entered = true;
+      return std::nullopt;  // in the hole: its walls guide the part on
+    }
     if (blocked(s, body, at) && at.depth_mm > start_depth) return Contact{last, f * length, at};
     last = p;
   }
   return std::nullopt;
+}
+
+Pose guided(const CellSettings& s, const Pose& T_world_target, const Pose& T_world_part) {
+  const Insertion at = check_insertion(s, T_world_target, T_world_part);
+  const Eigen::Vector3d to_wall(std::clamp(at.x_mm, -s.clearance.x_mm, s.clearance.x_mm) - at.x_mm,
+                                std::clamp(at.y_mm, -s.clearance.y_mm, s.clearance.y_mm) - at.y_mm,
+                                0);
+  Pose p = T_world_part;
+  p.pretranslate(T_world_target.linear() * s.T_target_part_insert.linear() * to_wall);
+  return p;
 }
 
 }  // namespace laserfit::cell

@@ -49,6 +49,7 @@ class Loop {
   bool stages();
   bool touched(const std::vector<double>& fractions, size_t& w);
   Pose waypoint(double fraction) const;
+  bool push_on();
   bool outside(const Pose& waypoint) const;
   double fold_max_mm() const {
     const double clearance = std::min(c_.s.clearance.x_mm, c_.s.clearance.y_mm);
@@ -71,6 +72,7 @@ class Loop {
   double pending_mm_ = 0;            //   how far it moves the part's end (mm)
   double unverified_mm_ = 0;         // as far as the last move's, verified by no scan yet
   bool contact_ = false;             // the last (guarded) move stopped on the target's face
+  bool axial_seen_ = true;           // the last trusted measurement fixed the part along its axis
   bool turn_ = true;                 // the next correction turns the part too (pose strategy)
   int touches_ = 0;
   MotionErrorModel learned_;  // the arm's move error, world frame: this cell's earlier moves on
@@ -198,7 +200,7 @@ Outcome Loop::attempt() {
     o_.log.push_back(
         std::string("proprioception only, ") + (st == Strategy::ProprioIC1 ? "IC1" : "IC2") +
         ": reach the recorded insertion pose from start " + std::to_string(o_.start + 1));
-    return move(su_.p_ins, q_ref, s_.motion) ? finish() : refuse(why_);
+    return move(su_.p_ins, q_ref, s_.motion) && push_on() ? finish() : refuse(why_);
   }
   // Laser feedback: approach (IC2), then scan, register, correct, verify; finally insert.
   Pose approach = c_.s.T_target_part_insert;
@@ -222,6 +224,19 @@ Pose Loop::waypoint(double fraction) const {
   return p;
 }
 
+// From the insertion pose on along the insertion axis (the target as last measured, else as the
+// model puts it) by the cell's push_mm, guarded: a plug is pushed into its socket.
+bool Loop::push_on() {
+  if (c_.s.push_mm <= 0) return true;
+  const Pose& T = tracked_ ? *tracked_ : su_.T_world_target_believed;
+  Pose d = Pose::Identity();
+  d.translation() = T.linear() * c_.s.T_target_part_insert.linear().col(2) * c_.s.push_mm;
+  if (!shift(d, s_.motion.min_duration_s)) return false;
+  o_.log.push_back(contact_ ? "pushed on: stopped on the target's face"
+                            : "pushed on " + fmt(c_.s.push_mm) + " mm along the insertion axis");
+  return true;
+}
+
 // Whether the part's end is still outside the target there (short of its mouth).
 bool Loop::outside(const Pose& w) const {
   const Pose& Q = c_.s.T_target_part_insert;
@@ -231,7 +246,8 @@ bool Loop::outside(const Pose& w) const {
 // Waypoints from the approach toward the insertion, each reached and verified by scans: an
 // unverified move of d mm on an arm whose model is off by a few degrees lands d * sin(error)
 // off, so the last unverified step is kept short. The last move inserts, along the measured
-// target. A guarded move that ends on the target's face goes back to the first stage (touched).
+// target, then pushes on (push_on). A guarded move that ends on the target's face goes back to
+// the first stage (touched).
 bool Loop::stages() {
   std::vector<double> fractions = {0.0};
   fractions.insert(fractions.end(), c_.s.stages.begin(), c_.s.stages.end());
@@ -240,8 +256,10 @@ bool Loop::stages() {
     // The move after the last stage is the insertion: into the target.
     const bool next_outside = w + 1 < fractions.size() && outside(waypoint(fractions[w + 1]));
     // After the approach has been corrected and verified, the axial trust region applies; a
-    // larger correction carried by the move here is verified only by this waypoint's scan.
-    const bool gated = w > 0 && unverified_mm_ <= s_.axial_gate_mm;
+    // larger correction carried by the move here is verified only by this waypoint's scan, and
+    // a part the last scan could not place along its axis (`ambiguous` there) was not verified
+    // along it at all: its next reading along the axis is news, not an implausible one.
+    const bool gated = w > 0 && unverified_mm_ <= s_.axial_gate_mm && axial_seen_;
     if (!correct_rounds(gated, outside(way_), next_outside)) return false;
     if (contact_) continue;
     const Pose next = ++w < fractions.size() ? waypoint(fractions[w]) : waypoint(1.0);
@@ -249,7 +267,11 @@ bool Loop::stages() {
     d.translation() = m_.T_scan_target.linear() * (next.translation() - way_.translation());
     if (!move_on(d)) return false;
     if (contact_) continue;
-    if (w == fractions.size()) return true;
+    if (w == fractions.size()) {
+      if (!push_on()) return false;
+      if (contact_) continue;  // not in the hole after all: back off and look again
+      return true;
+    }
     o_.log.push_back("stage " + std::to_string(w) + ": " + fmt(100 * fractions[w]) +
                      " % of the way in");
     way_ = next;
@@ -373,6 +395,7 @@ bool Loop::scan_until_trusted(bool gated, bool outside, Correction& corr) {
     } else {
       tracked_part_ = m_.T_scan_target.inverse() * m_.T_scan_part;
       learn(!m_.part_axial_unknown);
+      axial_seen_ = !m_.part_axial_unknown;
       turn_ = false;
     }
   }

@@ -53,8 +53,11 @@ MotionReport SimCell::move(const MotionCommand& command) {
   out.q = q_, out.duration_s = r.duration_s;
   if (!r.limits_ok) return out.reason = "joint position limit reached", out;
   // The true path is the commanded line bent by the arm's model error, which varies slowly along
-  // it: the straight line between the true end poses stands for it.
-  const auto hit = cell::first_contact(c_.s, su_.T_world_target, from, *part_);
+  // it: the straight line between the true end poses stands for it. In the hole, the walls
+  // hold the part within its clearance however the arm drifts.
+  bool entered = false;
+  const auto hit = cell::first_contact(c_.s, su_.T_world_target, from, *part_, 0.1, &entered);
+  if (entered) part_ = cell::guided(c_.s, su_.T_world_target, *part_);
   if (hit && command.guarded) {
     // Stopped where the true arm first carries the part into the face: the path cut there, found
     // by bisection on the fraction of the path followed (the line above only says that it does).

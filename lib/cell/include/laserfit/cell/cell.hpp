@@ -36,6 +36,10 @@ struct CellSettings {
   Eigen::Vector3d approach_mm = {0, 0, 0};       // part's approach position, target frame
   std::vector<double> stages;                    // verified waypoints toward the insertion, as
                                                  // fractions of the approach distance (0..1)
+  // How far past the insertion pose the last move pushes along the insertion axis (mm), guarded:
+  // a plug is pushed into its socket, not set down at the mouth, so an axial error the scans
+  // left (a plug seen from behind) leaves it in, not short; a misaligned part meets the face.
+  double push_mm = 0;
   // The largest correction the controller may make in one move (mm, deg): the cell's approach
   // error budget (the arms' model error after an IC2 approach), and how far from its prior the
   // part is looked for. Larger measured corrections are refused.
@@ -105,12 +109,20 @@ Insertion check_insertion(const CellSettings& s, const Pose& T_world_target,
 // clearance, not beyond its far face) while its axis crosses that face outside the hole's
 // clearance, deeper than it started (a part resting on the face may leave it). The part stops at
 // the last free sample, `travelled_mm` along the way (a real arm's collision reflex). None: free.
+// A part that has entered the hole (its front past the depth clearance, its axis within the
+// clearance) is guided by the hole's walls from there (`entered`): no contact after that.
 struct Contact {
   Pose T_world_part;
   double travelled_mm = 0;
   Insertion at;  // the blocked sample, as the insertion check reads it
 };
 std::optional<Contact> first_contact(const CellSettings& s, const Pose& T_world_target,
-                                     const Pose& from, const Pose& to, double step_mm = 0.1);
+                                     const Pose& from, const Pose& to, double step_mm = 0.1,
+                                     bool* entered = nullptr);
+
+// A part in the hole, held by the walls: moved across the insertion axis until that axis crosses
+// the mouth within the clearance (a compliant arm yields a fraction of a millimetre sideways; a
+// stiff one would jam, which this does not model). Its orientation and depth are kept.
+Pose guided(const CellSettings& s, const Pose& T_world_target, const Pose& T_world_part);
 
 }  // namespace laserfit::cell
