@@ -67,9 +67,10 @@ std::optional<Contact> first_contact(const CellSettings& s, const Pose& T_world_
 
 Pose guided(const CellSettings& s, const Pose& T_world_target, const Pose& T_world_part) {
   const Insertion at = check_insertion(s, T_world_target, T_world_part);
-  const Eigen::Vector3d to_wall(std::clamp(at.x_mm, -s.clearance.x_mm, s.clearance.x_mm) - at.x_mm,
-                                std::clamp(at.y_mm, -s.clearance.y_mm, s.clearance.y_mm) - at.y_mm,
-                                0);
+  // Against the wall, a nanometre inside it: rounding must not put a held part beyond it.
+  const double wx = s.clearance.x_mm - 1e-6, wy = s.clearance.y_mm - 1e-6;
+  const Eigen::Vector3d to_wall(std::clamp(at.x_mm, -wx, wx) - at.x_mm,
+                                std::clamp(at.y_mm, -wy, wy) - at.y_mm, 0);
   Pose p = T_world_part;
   p.pretranslate(T_world_target.linear() * s.T_target_part_insert.linear() * to_wall);
   return p;
