@@ -113,18 +113,18 @@ TEST(Controller, InsertionCheckUsesTheClearanceAtTheMouth) {
 TEST(Controller, ContactStopsAPartAtTheTargetsFace) {
   const auto cs = cell::load_cell(kCells + "usb.yaml");
   const Pose target = cs.target_poses[0];
-  auto at = [&](double x, double z) { return part_at(cs, x, z); };
-  const auto hit = cell::first_contact(cs, target, at(2.6, -6), at(2.6, 2));
+  const auto hit = cell::first_contact(cs, target, part_at(cs, 2.6, -6), part_at(cs, 2.6, 2));
   ASSERT_TRUE(hit.has_value());
   EXPECT_NEAR(hit->travelled_mm, 6 + cs.clearance.depth_mm, 0.1 + 1e-9);
   EXPECT_NEAR(hit->at.x_mm, 2.6, 1e-9);
   const double stopped = cell::check_insertion(cs, target, hit->T_world_part).depth_mm;
   EXPECT_LE(stopped, cs.clearance.depth_mm);
   EXPECT_GT(stopped, cs.clearance.depth_mm - 0.1 - 1e-9);
-  EXPECT_FALSE(cell::first_contact(cs, target, at(cs.clearance.x_mm - 0.001, -6),
-                                   at(cs.clearance.x_mm - 0.001, 8)));
-  EXPECT_FALSE(cell::first_contact(cs, target, at(16, -6), at(16, 2)));
-  EXPECT_FALSE(cell::first_contact(cs, target, at(2.6, -6), at(2.6, cs.clearance.depth_mm)));
+  EXPECT_FALSE(cell::first_contact(cs, target, part_at(cs, cs.clearance.x_mm - 0.001, -6),
+                                   part_at(cs, cs.clearance.x_mm - 0.001, 8)));
+  EXPECT_FALSE(cell::first_contact(cs, target, part_at(cs, 16, -6), part_at(cs, 16, 2)));
+  EXPECT_FALSE(cell::first_contact(cs, target, part_at(cs, 2.6, -6),
+                                   part_at(cs, 2.6, cs.clearance.depth_mm)));
 }
 
 // The needle is a thin body, not a half-space: a thread beside its eye is stopped at the needle's
@@ -133,15 +133,17 @@ TEST(Controller, ContactStopsAPartAtTheTargetsFace) {
 TEST(Controller, ContactOnlyInsideTheTargetsBody) {
   const auto cs = cell::load_cell(kCells + "needle.yaml");
   const Pose target = cs.target_poses[0];
-  auto at = [&](double x, double z) { return part_at(cs, x, z); };
-  const auto hit = cell::first_contact(cs, target, at(0.8, 2), at(0.8, -2));  // target z: up
+  const auto hit =
+      cell::first_contact(cs, target, part_at(cs, 0.8, 2), part_at(cs, 0.8, -2));  // target z: up
   ASSERT_TRUE(hit.has_value());
   const double near_face = -0.35;  // the eye's mouth, half the 0.7 mm depth above its centre
   const double stopped = cell::check_insertion(cs, target, hit->T_world_part).depth_mm;
   EXPECT_LE(stopped, near_face + cs.clearance.depth_mm);
   EXPECT_GT(stopped, near_face + cs.clearance.depth_mm - 0.1 - 1e-9);
-  EXPECT_FALSE(cell::first_contact(cs, target, at(0.8, -1), at(0.8, -3)));   // past the far face
-  EXPECT_FALSE(cell::first_contact(cs, target, at(-1.2, 2), at(-1.2, -2)));  // beyond its end
+  EXPECT_FALSE(cell::first_contact(cs, target, part_at(cs, 0.8, -1),
+                                   part_at(cs, 0.8, -3)));  // past the far face
+  EXPECT_FALSE(cell::first_contact(cs, target, part_at(cs, -1.2, 2),
+                                   part_at(cs, -1.2, -2)));  // beyond its end
 }
 
 // A part that entered the hole within its clearance is held by the walls: a push that drifts

@@ -50,6 +50,8 @@ class Loop {
   bool touched(const std::vector<double>& fractions, size_t& w);
   Pose waypoint(double fraction) const;
   bool push_on();
+  // The target as last trusted, else where the model puts it (scan / world frame).
+  const Pose& target_estimate() const { return tracked_ ? *tracked_ : su_.T_world_target_believed; }
   bool outside(const Pose& waypoint) const;
   double fold_max_mm() const {
     const double clearance = std::min(c_.s.clearance.x_mm, c_.s.clearance.y_mm);
@@ -72,7 +74,6 @@ class Loop {
   double pending_mm_ = 0;            //   how far it moves the part's end (mm)
   double unverified_mm_ = 0;         // as far as the last move's, verified by no scan yet
   bool contact_ = false;             // the last (guarded) move stopped on the target's face
-  bool axial_seen_ = true;           // the last trusted measurement fixed the part along its axis
   bool turn_ = true;                 // the next correction turns the part too (pose strategy)
   int touches_ = 0;
   MotionErrorModel learned_;  // the arm's move error, world frame: this cell's earlier moves on
@@ -228,9 +229,9 @@ Pose Loop::waypoint(double fraction) const {
 // model puts it) by the cell's push_mm, guarded: a plug is pushed into its socket.
 bool Loop::push_on() {
   if (c_.s.push_mm <= 0) return true;
-  const Pose& T = tracked_ ? *tracked_ : su_.T_world_target_believed;
   Pose d = Pose::Identity();
-  d.translation() = T.linear() * c_.s.T_target_part_insert.linear().col(2) * c_.s.push_mm;
+  d.translation() =
+      target_estimate().linear() * c_.s.T_target_part_insert.linear().col(2) * c_.s.push_mm;
   if (!shift(d, s_.motion.min_duration_s)) return false;
   o_.log.push_back(contact_ ? "pushed on: stopped on the target's face"
                             : "pushed on " + fmt(c_.s.push_mm) + " mm along the insertion axis");
@@ -259,7 +260,7 @@ bool Loop::stages() {
     // larger correction carried by the move here is verified only by this waypoint's scan, and
     // a part the last scan could not place along its axis (`ambiguous` there) was not verified
     // along it at all: its next reading along the axis is news, not an implausible one.
-    const bool gated = w > 0 && unverified_mm_ <= s_.axial_gate_mm && axial_seen_;
+    const bool gated = w > 0 && unverified_mm_ <= s_.axial_gate_mm && !m_.part_axial_unknown;
     if (!correct_rounds(gated, outside(way_), next_outside)) return false;
     if (contact_) continue;
     const Pose next = ++w < fractions.size() ? waypoint(fractions[w]) : waypoint(1.0);
@@ -305,7 +306,7 @@ bool Loop::touched(const std::vector<double>& fractions, size_t& w) {
   o_.log.push_back("touched the target's face: backing off to " + fmt(100 * fractions[w]) +
                    " % of the way in");
   // Before any measurement (a contact on the approach) the target is where the model puts it.
-  if (!m_.target_ok) m_.T_scan_target = tracked_ ? *tracked_ : su_.T_world_target_believed;
+  if (!m_.target_ok) m_.T_scan_target = target_estimate();
   Pose d = Pose::Identity();
   d.translation() = m_.T_scan_target.linear() * (back.translation() - way_.translation());
   if (!shift(d, s_.motion.min_duration_s)) return false;
@@ -395,7 +396,6 @@ bool Loop::scan_until_trusted(bool gated, bool outside, Correction& corr) {
     } else {
       tracked_part_ = m_.T_scan_target.inverse() * m_.T_scan_part;
       learn(!m_.part_axial_unknown);
-      axial_seen_ = !m_.part_axial_unknown;
       turn_ = false;
     }
   }
