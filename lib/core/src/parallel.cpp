@@ -26,8 +26,12 @@ void parallel_for(size_t n, int jobs, const std::function<void(size_t)>& f) {
       }
     }
   };
+  // No more threads than indices, and none for one: a thread that starts or ends while another
+  // forks a reader (lib/core/isolate) is one more moment in which the child can inherit a lock.
+  const size_t threads = std::min(n, static_cast<size_t>(std::max(1, jobs)));
   std::vector<std::thread> pool;
-  for (int j = 0; j < std::max(1, jobs); ++j) pool.emplace_back(worker);
+  for (size_t j = 0; threads > 1 && j < threads; ++j) pool.emplace_back(worker);
+  if (threads <= 1) worker();
   for (auto& t : pool) t.join();
   if (!first_error.empty()) throw Error(first_error);
 }
