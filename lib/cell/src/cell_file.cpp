@@ -71,8 +71,8 @@ static CellSettings load_cell_unguarded(const std::string& path) {
 
   const auto ins = R.need(root, "insertion", "cell");
   R.only(ins, "insertion",
-         {"part_in_target", "approach_mm", "stages", "push_mm", "max_correction_mm",
-          "max_correction_deg"});
+         {"part_in_target", "approach_mm", "stages", "push_mm", "clear_view_mm",
+          "max_correction_mm", "max_correction_deg"});
   c.T_target_part_insert =
       R.pose(R.need(ins, "part_in_target", "insertion"), "insertion.part_in_target");
   const auto ap = R.list(R.need(ins, "approach_mm", "insertion"), "insertion.approach_mm");
@@ -88,6 +88,12 @@ static CellSettings load_cell_unguarded(const std::string& path) {
   c.push_mm = R.num(ins, "push_mm", c.push_mm, "insertion");
   if (!(c.push_mm >= 0 && c.push_mm <= 20))
     R.fail("insertion.push_mm", "the push past the insertion pose must be in [0, 20] mm");
+  if (ins["clear_view_mm"]) {
+    const auto cv = R.list(ins["clear_view_mm"], "insertion.clear_view_mm");
+    if (cv.size() != 3 || !(Eigen::Vector3d(cv[0], cv[1], cv[2]).norm() <= 30))
+      R.fail("insertion.clear_view_mm", "expected [x, y, z], a step of at most 30 mm");
+    c.clear_view_mm = {cv[0], cv[1], cv[2]};
+  }
   c.max_correction_mm = R.num(ins, "max_correction_mm", c.max_correction_mm, "insertion");
   c.max_correction_deg = R.num(ins, "max_correction_deg", c.max_correction_deg, "insertion");
   if (!(c.max_correction_mm > 0 && c.max_correction_mm <= 50))

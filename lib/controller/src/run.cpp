@@ -2,7 +2,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <sstream>
 
 #include "laserfit/controller/sim.hpp"
 #include "laserfit/core/error.hpp"
@@ -50,6 +49,7 @@ class Loop {
   bool touched(const std::vector<double>& fractions, size_t& w);
   Pose waypoint(double fraction) const;
   bool push_on();
+  bool step_aside();
   // The target as last trusted, else where the model puts it (scan / world frame).
   const Pose& target_estimate() const { return tracked_ ? *tracked_ : su_.T_world_target_believed; }
   bool outside(const Pose& waypoint) const;
@@ -76,6 +76,7 @@ class Loop {
   bool contact_ = false;             // the last (guarded) move stopped on the target's face
   bool turn_ = true;                 // the next correction turns the part too (pose strategy)
   int touches_ = 0;
+  bool stepped_aside_ = false;
   MotionErrorModel learned_;  // the arm's move error, world frame: this cell's earlier moves on
   std::optional<Eigen::Vector3d> measured_at_;  // the part's origin at the last measurement
   Eigen::Vector3d commanded_ = Eigen::Vector3d::Zero();  //   and the moves commanded since
@@ -238,6 +239,19 @@ bool Loop::push_on() {
   return true;
 }
 
+// The part steps aside by the cell's clear_view_mm (target frame), guarded, for the next scan to
+// see the target without it (CellSettings::clear_view_mm says when that is needed).
+bool Loop::step_aside() {
+  stepped_aside_ = true;
+  Pose d = Pose::Identity();
+  d.translation() = su_.T_world_target_believed.linear() * c_.s.clear_view_mm;
+  if (!shift(d, s_.motion.min_duration_s)) return false;
+  if (contact_) return why_ = "the part met the target stepping aside to clear the view", false;
+  o_.log.push_back("target not trusted with the part in front of it: the part steps " +
+                   fmt(c_.s.clear_view_mm.norm()) + " mm aside for the next scan");
+  return true;
+}
+
 // Whether the part's end is still outside the target there (short of its mouth).
 bool Loop::outside(const Pose& w) const {
   const Pose& Q = c_.s.T_target_part_insert;
@@ -372,6 +386,11 @@ bool Loop::scan_until_trusted(bool gated, bool outside, Correction& corr) {
     m_ = measure(scan, su_.target_ref, su_.part_ref, su_.T_world_target_believed,
                  c_.part_believed(cell_.joints()), cs, s_, seed, o_.log, tracked_, tracked_part_);
     if (m_.target_ok) tracked_ = m_.T_scan_target;
+    if (!m_.target_ok && !tracked_ && !stepped_aside_ && k + 1 < s_.max_scans &&
+        c_.s.clear_view_mm.norm() > 0) {
+      if (!step_aside()) return false;
+      continue;
+    }
     // The target was seen but not the part: the approach may have left it outside the sweep,
     // and then (not in the long sweep either) nearer to the scanner than its measuring range.
     const std::string not_found =

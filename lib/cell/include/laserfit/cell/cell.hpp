@@ -40,6 +40,11 @@ struct CellSettings {
   // a plug is pushed into its socket, not set down at the mouth, so an axial error the scans
   // left (a plug seen from behind) leaves it in, not short; a misaligned part meets the face.
   double push_mm = 0;
+  // Where the part steps to (target frame, mm) when the target cannot be trusted with the part in
+  // front of it and has not been yet: an IC2 approach can leave the USB plug mm across the
+  // socket's mouth, and the plug and its shadow hide what pins the socket. The next scan sees the
+  // target alone; the correction from there brings the part back, measured. Zero: no step.
+  Eigen::Vector3d clear_view_mm = {0, 0, 0};
   // The largest correction the controller may make in one move (mm, deg): the cell's approach
   // error budget (the arms' model error after an IC2 approach), and how far from its prior the
   // part is looked for. Larger measured corrections are refused.
