@@ -104,18 +104,21 @@ FUZZ_ASAN_OPTIONS := $(ASAN_OPTIONS):quarantine_size_mb=8:malloc_context_size=10
 FUZZ_ENV := LD_BIND_NOW=1 ASAN_OPTIONS=$(FUZZ_ASAN_OPTIONS) UBSAN_OPTIONS=$(UBSAN_OPTIONS) \
   LSAN_OPTIONS=$(LSAN_OPTIONS)
 fuzz: build-asan
-	@for t in $(FUZZ_TARGETS); do \
-	  mkdir -p out/fuzz/corpus/$$t out/fuzz/findings/$$t || exit 1; \
-	  echo "fuzz $$t: $(FUZZ_SECONDS) s"; \
-	  $(FUZZ_ENV) \
-	  $(ASAN_BUILD)/bin/fuzz_$$t out/fuzz/corpus/$$t tests/fuzz/corpus/$$t \
+	@$(MAKE) --no-print-directory -j $(JOBS) $(addprefix fuzz-run-,$(FUZZ_TARGETS))
+	@echo "fuzz: no findings"
+
+# One fuzz target for FUZZ_SECONDS (make fuzz runs JOBS of them at a time, one core each).
+fuzz-run-%:
+	@mkdir -p out/fuzz/corpus/$* out/fuzz/findings/$*
+	@$(FUZZ_ENV) \
+	  $(ASAN_BUILD)/bin/fuzz_$* out/fuzz/corpus/$* tests/fuzz/corpus/$* \
 	    -max_total_time=$(FUZZ_SECONDS) -seed=$(FUZZ_SEED) -timeout=30 $(FUZZ_LIMITS) -max_len=65536 \
-	    -artifact_prefix=out/fuzz/findings/$$t/ -print_final_stats=1 \
-	    > out/fuzz/$$t.log 2>&1; rc=$$?; \
-	  grep -E '^(stat::number_of_executed_units|stat::peak_rss_mb)|cov:' out/fuzz/$$t.log | tail -3; \
-	  if [ $$rc -ne 0 ] || [ -n "$$(ls out/fuzz/findings/$$t)" ]; then \
-	    echo "fuzz $$t: FINDING (exit $$rc), see out/fuzz/$$t.log and out/fuzz/findings/$$t/"; exit 1; fi; \
-	done; echo "fuzz: no findings"
+	    -artifact_prefix=out/fuzz/findings/$*/ -print_final_stats=1 \
+	    > out/fuzz/$*.log 2>&1; rc=$$?; \
+	  printf 'fuzz %s: %s s\n%s\n' $* $(FUZZ_SECONDS) \
+	    "$$(grep -E '^(stat::number_of_executed_units|stat::peak_rss_mb)|cov:' out/fuzz/$*.log | tail -3)"; \
+	  if [ $$rc -ne 0 ] || [ -n "$$(ls out/fuzz/findings/$*)" ]; then \
+	    echo "fuzz $*: FINDING (exit $$rc), see out/fuzz/$*.log and out/fuzz/findings/$*/"; exit 1; fi
 
 # The offline robustness campaign (a benchmark, not a test; hours on 2 cores, run with -j 2):
 # FUZZ_RUNS executions of every fuzz target, then the black-box mutation of `laserfit import`
