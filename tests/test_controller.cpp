@@ -392,6 +392,23 @@ TEST(Controller, OrientationCorrectionLeavesTheTiltAboutAPriorSpin) {
   EXPECT_LT(((c.delta.linear() * m.T_scan_part.linear()) - goal_scan.linear()).norm(), 1e-9);
 }
 
+namespace {
+
+// Trial i of the USB campaign (`sim --cell cells/usb.yaml --thresholds
+// reports/paper/thresholds_usb.yaml --strategy laser_pose`, seed 1), from a fresh arm pair.
+controller::Outcome usb_campaign_trial(const cell::CellSettings& cs, int i) {
+  auto s = controller::settings_for(cs);
+  s.thresholds = registration::load_thresholds(std::string(LASERFIT_SOURCE_DIR) +
+                                               "/reports/paper/thresholds_usb.yaml");
+  const controller::TrialPlan t = controller::plan_trial(cs, 1, i);
+  controller::Campaign campaign(cs, s, 1);
+  campaign.prepare(t);
+  return controller::run_insertion(campaign.cell(t.robot), campaign.setup(t.robot, t.setting),
+                                   controller::Strategy::LaserPose, t.start, t.seed, s);
+}
+
+}  // namespace
+
 // An arm pair whose sensing arm's model puts the USB socket 18 mm from where the scan sees it
 // (trial 10 of the campaign: 562.6, -16.4, 247.2 believed; 552.1, -26.8, 232.0 seen), with the
 // plug and the board nearer to that prior than the socket. The target's first registration tries
@@ -399,15 +416,7 @@ TEST(Controller, OrientationCorrectionLeavesTheTiltAboutAPriorSpin) {
 // truth: the cell judges the insertion on the true poses (50 um clearance, 1 deg).
 TEST(Controller, FindsATargetFarFromItsModelsPrior) {
   const auto cs = cell::load_cell(kCells + "usb.yaml");
-  auto s = controller::settings_for(cs);
-  s.thresholds = registration::load_thresholds(std::string(LASERFIT_SOURCE_DIR) +
-                                               "/reports/paper/thresholds_usb.yaml");
-  const controller::TrialPlan t = controller::plan_trial(cs, 1, 10);
-  controller::Campaign campaign(cs, s, 1);
-  campaign.prepare(t);
-  const auto o =
-      controller::run_insertion(campaign.cell(t.robot), campaign.setup(t.robot, t.setting),
-                                controller::Strategy::LaserPose, t.start, t.seed, s);
+  const auto o = usb_campaign_trial(cs, 10);
   EXPECT_TRUE(o.success) << o.result;
   EXPECT_LE(o.scans, 4);
 }
@@ -420,15 +429,7 @@ TEST(Controller, FindsATargetFarFromItsModelsPrior) {
 TEST(Controller, APartHidingTheTargetStepsAsideForTheNextScan) {
   const auto cs = cell::load_cell(kCells + "usb.yaml");
   ASSERT_EQ(cs.clear_view_mm, Eigen::Vector3d(0, 8, 0));
-  auto s = controller::settings_for(cs);
-  s.thresholds = registration::load_thresholds(std::string(LASERFIT_SOURCE_DIR) +
-                                               "/reports/paper/thresholds_usb.yaml");
-  const controller::TrialPlan t = controller::plan_trial(cs, 1, 100);
-  controller::Campaign campaign(cs, s, 1);
-  campaign.prepare(t);
-  const auto o =
-      controller::run_insertion(campaign.cell(t.robot), campaign.setup(t.robot, t.setting),
-                                controller::Strategy::LaserPose, t.start, t.seed, s);
+  const auto o = usb_campaign_trial(cs, 100);
   EXPECT_TRUE(o.success) << o.result;
   ASSERT_GE(o.log.size(), 4u);
   EXPECT_NE(o.log[1].find("usb_a_receptacle: ambiguous -> rejected"), std::string::npos)
