@@ -244,7 +244,7 @@ bool Loop::push_on() {
 bool Loop::step_aside() {
   stepped_aside_ = true;
   Pose d = Pose::Identity();
-  d.translation() = su_.T_world_target_believed.linear() * c_.s.clear_view_mm;
+  d.translation() = target_estimate().linear() * c_.s.clear_view_mm;
   if (!shift(d, s_.motion.min_duration_s)) return false;
   if (contact_) return why_ = "the part met the target stepping aside to clear the view", false;
   o_.log.push_back("target not trusted with the part in front of it: the part steps " +
