@@ -5,9 +5,12 @@
 
 #include <random>
 
+#include <pcl/filters/statistical_outlier_removal.h>
 #include <pcl/filters/uniform_sampling.h>
+#include <pcl/segmentation/extract_clusters.h>
 
 #include "pcl_types.hpp"
+#include "stages.hpp"
 
 using namespace laserfit::registration;
 
@@ -36,6 +39,30 @@ struct Both {
     pcl_tree.setInputCloud(c);
   }
 };
+
+// `rows` profiles of `cols` points 2 um apart on a wavy surface, every 50th point a stray one
+// (an outlier) and every 61st a missing one (NaN), as a line scanner gives them.
+PclCloud::Ptr profiles(int rows, int cols, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-1.f, 1.f);
+  PclCloud::Ptr c(new PclCloud);
+  for (int r = 0; r < rows; ++r)
+    for (int i = 0; i < cols; ++i) {
+      PointT p;
+      p.x = 0.002f * float(i), p.y = 0.01f * float(r), p.z = 0.05f * std::sin(3.f * p.x + p.y);
+      if ((r * cols + i) % 50 == 7) p.z += 0.2f * u(rng);
+      if ((r * cols + i) % 61 == 3) p.z = std::numeric_limits<float>::quiet_NaN();
+      c->push_back(p);
+    }
+  c->is_dense = false;
+  return c;
+}
+
+laserfit::PointCloud to_cloud(const PclCloud& in) {
+  laserfit::PointCloud c;
+  for (const auto& p : in) c.points.push_back(p.getVector3fMap());
+  return c;
+}
 
 PointT query(std::mt19937& rng) {
   std::uniform_real_distribution<float> u(-1.1f, 1.1f);
@@ -174,7 +201,8 @@ TEST(Search, GridWithinRadiusEqualsTheKdTree) {
 
 // uniform_sample keeps the points pcl::UniformSampling keeps, in its order, bit for bit: random
 // points (with NaNs, negative coordinates), points on a lattice (ties to the voxel centre, points
-// on voxel borders), voxels from far below to above the points' spacing. Tolerance: none.
+// on voxel borders), profiles (runs of neighbours in one voxel, as a line scanner gives them),
+// voxels from far below to above the points' spacing. Tolerance: none.
 TEST(Search, UniformSampleEqualsPcl) {
   auto lattice = random_cloud(0, 1, false);
   for (int i = 0; i < 40; ++i)
@@ -184,7 +212,7 @@ TEST(Search, UniformSampleEqualsPcl) {
         p.x = 0.05f * float(i) - 1.f, p.y = 0.025f * float(j) - 0.5f, p.z = z;
         lattice->push_back(p);
       }
-  for (const auto& cloud : {random_cloud(20000, 21, true), lattice})
+  for (const auto& cloud : {random_cloud(20000, 21, true), lattice, profiles(40, 500, 22)})
     for (const double voxel : {0.0005, 0.01, 0.05, 0.1, 0.37, 5.0}) {
       SCOPED_TRACE(voxel);
       laserfit::PointCloud c;
@@ -250,4 +278,63 @@ TEST(Search, BoundedNearestEqualsUnboundedWithinTheBound) {
       }
     }
   }
+}
+
+// sample_and_filter keeps what pcl::UniformSampling then pcl::StatisticalOutlierRemoval keep, in
+// their order, bit for bit: profiles with stray points, random points, filters from lenient to
+// strict. Tolerance: none.
+TEST(Search, OutlierRemovalEqualsPcl) {
+  for (const auto& cloud : {profiles(30, 400, 41), random_cloud(5000, 42, true)})
+    for (const double std_mul : {0.5, 1.0, 2.0})
+      for (const int k : {5, 20}) {
+        SCOPED_TRACE(std_mul);
+        SCOPED_TRACE(k);
+        const laserfit::PointCloud c = to_cloud(*cloud);
+        PreprocessSettings pre;
+        pre.outlier_std = std_mul, pre.outlier_neighbours = k;
+        const double voxel = 0.004;
+        const auto mine = sample_and_filter(c, pre, voxel);
+        pcl::StatisticalOutlierRemoval<PointT> sor;
+        sor.setInputCloud(to_pcl(c, uniform_sample(c.points, voxel)));
+        sor.setMeanK(k);
+        sor.setStddevMulThresh(std_mul);
+        PclCloud expected;
+        sor.filter(expected);
+        ASSERT_LT(expected.size(), sor.getInputCloud()->size());  // the filter removed some
+        ASSERT_EQ(mine->size(), expected.size());
+        for (size_t i = 0; i < expected.size(); ++i)
+          ASSERT_EQ(Eigen::Vector3f(mine->at(i).getVector3fMap()),
+                    Eigen::Vector3f(expected[i].getVector3fMap()))
+              << i;
+      }
+}
+
+// euclidean_clusters gives pcl::EuclideanClusterExtraction's clusters in its order: blobs of
+// equal sizes (the order among them is std::sort's, as PCL's), blobs below the minimum size,
+// random points at tolerances from none joined to all joined. Tolerance: none.
+TEST(Search, EuclideanClustersEqualPcl) {
+  PclCloud::Ptr blobs(new PclCloud);
+  std::mt19937 rng(51);
+  std::uniform_real_distribution<float> u(0.f, 0.05f);
+  for (int b = 0; b < 40; ++b)
+    for (int i = 0; i < (b % 3 == 0 ? 30 : b % 3 == 1 ? 12 : 30 + b); ++i) {
+      PointT p;
+      p.x = float(b % 8) + u(rng), p.y = float(b / 8) + u(rng), p.z = u(rng);
+      blobs->push_back(p);
+    }
+  for (const auto& cloud : {blobs, random_cloud(2000, 52, false)})
+    for (const double tol : {0.01, 0.04, 0.2, 1.2}) {
+      SCOPED_TRACE(tol);
+      const auto mine = euclidean_clusters(cloud, tol, 20);
+      pcl::EuclideanClusterExtraction<PointT> ec;
+      ec.setClusterTolerance(tol);
+      ec.setMinClusterSize(20);
+      ec.setMaxClusterSize(int(cloud->size()));
+      ec.setSearchMethod(pcl::search::KdTree<PointT>::Ptr(new pcl::search::KdTree<PointT>));
+      ec.setInputCloud(cloud);
+      std::vector<pcl::PointIndices> expected;
+      ec.extract(expected);
+      ASSERT_EQ(mine.size(), expected.size());
+      for (size_t k = 0; k < expected.size(); ++k) ASSERT_EQ(mine[k].indices, expected[k].indices) << k;
+    }
 }

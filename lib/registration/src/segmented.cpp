@@ -1,9 +1,10 @@
 // Registration of one part of a scan that holds several (register_segmented): the scan is split
 // into candidate parts, each registered with register_cloud, and a pose that one part alone cannot
 // pin is registered again on all the scan points near it. crop_near is the crop both use.
-#include <chrono>
+#include <limits>
 #include <map>
 
+#include "driver.hpp"
 #include "laserfit/core/error.hpp"
 #include "laserfit/registration/preprocess.hpp"
 #include "slide.hpp"
@@ -61,54 +62,101 @@ int rank(const RegistrationResult& r) {
 // part needs at least 20 voxels (a 0.15 mm thread tip seen over a millimetre is a few dozen).
 // With a prior, the scan points near the reference placed there are one more candidate, tried
 // first: a sparse part (a thin thread seen along its length) falls apart into clusters too small
-// to keep, but it is where the arm says it is. `order`: the parts nearest the prior first, else
+// to keep, but it is where the arm says it is. The order: the parts nearest the prior first, else
 // the largest first.
-std::vector<PointCloud> candidate_parts(const PointCloud& scan, const PointCloud& ref,
-                                        const RegistrationSettings& s, double voxel,
-                                        std::vector<int>& order) {
-  auto parts = segment_clusters(scan, voxel, 3 * voxel, 20);
-  if (s.prior) {
-    PointCloud near = crop_near(scan, ref, *s.prior, s.prior_radius_mm);
-    if (near.points.size() >= 10) parts.insert(parts.begin(), std::move(near));
+// Clustering a 1.7 M-point scan takes a tenth of a second or more, and the points near the prior
+// are usually registered `ok` on their own: the clusters are found only when a second candidate
+// is needed, unless a cluster could come before those points (a scan point nearer the prior than
+// any of them), when they are found at once. Either way the order is the same.
+class Candidates {
+ public:
+  Candidates(const PointCloud& scan, const PointCloud& ref, const RegistrationSettings& s,
+             double voxel)
+      : scan_(scan), ref_(ref), s_(s), voxel_(voxel) {
+    const auto t0 = Clock::now();
+    if (s.prior) {
+      at_ = placed_centroid(ref, *s.prior);
+      PointCloud near = crop_near(scan, ref, *s.prior, s.prior_radius_mm);
+      if (near.points.size() >= 10 && nearest(near) <= nearest(scan)) order_ = {0};
+      if (near.points.size() >= 10) parts_.push_back(std::move(near));
+    }
+    if (order_.empty()) cluster();
+    seconds += since(t0);
   }
-  if (parts.empty()) throw Error("no part of the scan is large enough to register");
-  order.resize(parts.size());
-  for (size_t i = 0; i < parts.size(); ++i) order[i] = int(i);
-  if (!s.prior) return parts;
-  Eigen::Vector3f c = Eigen::Vector3f::Zero();
-  size_t n = 0;
-  for (const auto& p : ref.points)
-    if (p.allFinite()) c += p, ++n;
-  const Eigen::Vector3f at =
-      (*s.prior * (c / float(std::max<size_t>(n, 1))).cast<double>()).cast<float>();
-  std::vector<float> dist(parts.size(), std::numeric_limits<float>::infinity());
-  for (size_t i = 0; i < parts.size(); ++i)
-    for (const auto& p : parts[i].points) dist[i] = std::min(dist[i], (p - at).squaredNorm());
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return dist[a] < dist[b]; });
-  return parts;
-}
+  // The k-th part to try, nullptr after the last; `index`: its place among all the parts (the
+  // points near the prior first, then the clusters, largest first).
+  const PointCloud* part(size_t k, int& index) {
+    if (k >= order_.size() && !clustered_) {
+      const auto t0 = Clock::now();
+      cluster();
+      seconds += since(t0);
+    }
+    if (k >= order_.size()) return nullptr;
+    index = order_[k];
+    return &parts_[size_t(index)];
+  }
+  std::string describe() const {
+    return clustered_ ? std::to_string(parts_.size()) + " candidate parts"
+                      : "the points near the prior (not clustered)";
+  }
+  double seconds = 0;
+
+ private:
+  static Eigen::Vector3f placed_centroid(const PointCloud& ref, const Pose& T) {
+    Eigen::Vector3f c = Eigen::Vector3f::Zero();
+    size_t n = 0;
+    for (const auto& p : ref.points)
+      if (p.allFinite()) c += p, ++n;
+    return (T * (c / float(std::max<size_t>(n, 1))).cast<double>()).cast<float>();
+  }
+  float nearest(const PointCloud& c) const {  // squared distance to the placed centroid
+    float d = std::numeric_limits<float>::infinity();
+    for (const auto& p : c.points)
+      if (p.allFinite()) d = std::min(d, (p - at_).squaredNorm());
+    return d;
+  }
+  void cluster() {
+    auto clusters = segment_clusters(scan_, voxel_, 3 * voxel_, 20);
+    for (auto& c : clusters) parts_.push_back(std::move(c));
+    clustered_ = true;
+    if (parts_.empty()) throw Error("no part of the scan is large enough to register");
+    order_.resize(parts_.size());
+    for (size_t i = 0; i < parts_.size(); ++i) order_[i] = int(i);
+    if (!s_.prior) return;
+    std::vector<float> dist(parts_.size());
+    for (size_t i = 0; i < parts_.size(); ++i) dist[i] = nearest(parts_[i]);
+    std::stable_sort(order_.begin(), order_.end(),
+                     [&](int a, int b) { return dist[size_t(a)] < dist[size_t(b)]; });
+  }
+  const PointCloud &scan_, &ref_;
+  const RegistrationSettings& s_;
+  const double voxel_;
+  Eigen::Vector3f at_ = Eigen::Vector3f::Zero();
+  std::vector<PointCloud> parts_;
+  std::vector<int> order_;
+  bool clustered_ = false;
+};
 
 // Registers the first max_clusters parts, stopping at the first ok; the best result (ok before
 // ambiguous before failed; equal ranks: with a prior the earlier, nearer part — a thread
 // registered onto the needle's shaft fits as well as onto the thread; without one, the lower
-// fitness) and its index in `parts`.
-std::pair<RegistrationResult, int> register_parts(const std::vector<PointCloud>& parts,
-                                                  const std::vector<int>& order,
-                                                  const PointCloud& ref,
+// fitness) and its index among the parts.
+std::pair<RegistrationResult, int> register_parts(Candidates& parts, const PointCloud& ref,
                                                   const RegistrationSettings& s, int max_clusters) {
   // A part's slide search is left to the regrown registration: it sees every piece of the part,
   // the cluster may have lost what pins it.
   RegistrationSettings each = s;
   each.trust.slide_range_mm = 0;
   RegistrationResult best;
-  int best_i = -1;
+  int best_i = -1, i = -1;
   std::map<std::string, double> spent;  // every part tried, not only the one kept
-  for (int k = 0; k < int(order.size()) && k < max_clusters; ++k) {
-    const int i = order[k];
-    if (parts[i].points.size() < 10) continue;
+  for (int k = 0; k < max_clusters; ++k) {
+    const PointCloud* part = parts.part(size_t(k), i);
+    if (!part) break;
+    if (part->points.size() < 10) continue;
     RegistrationResult r;
     try {
-      r = register_cloud(parts[i], ref, each);
+      r = register_cloud(*part, ref, each);
     } catch (const Error& e) {  // a candidate too small to register is a failed candidate
       r.status = Status::Failed;
       r.reason = "part " + std::to_string(i) + ": " + e.what();
@@ -181,21 +229,19 @@ RegistrationResult register_segmented(const PointCloud& scan_in, const PointClou
                                       int* cluster) {
   if (uses_thin_detector(ref, s)) return detect_thin_part(scan_in, ref, s);  // segments itself
   check_slide_settings(s.trust);
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = Clock::now();
   PointCloud scan = scan_in;
   remove_mixed_pixels(scan);
   const double voxel = s.pre.voxel_mm > 0 ? s.pre.voxel_mm : auto_voxel_mm(ref);
-  std::vector<int> order;
-  const std::vector<PointCloud> parts = candidate_parts(scan, ref, s, voxel, order);
-  const double t_segment =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  auto [best, best_i] = register_parts(parts, order, ref, s, max_clusters);
-  if (s.policies.regrow && regrow(scan, ref, s, best)) best_i = int(parts.size());
+  Candidates parts(scan, ref, s, voxel);
+  const double t_scan = since(t0) - parts.seconds;  // the copy, the mixed pixels
+  auto [best, best_i] = register_parts(parts, ref, s, max_clusters);
+  if (s.policies.regrow && regrow(scan, ref, s, best)) best_i = kRegrownPart;
   if (cluster) *cluster = best_i;
   best.part = best_i;
-  best.timings_s["segment"] = t_segment;
-  best.log.push_back("segmentation: " + std::to_string(parts.size()) +
-                     " candidate parts, registered part " + std::to_string(best_i));
+  best.timings_s["segment"] = t_scan + parts.seconds;  // with clusters found on demand
+  best.log.push_back("segmentation: " + parts.describe() + ", registered part " +
+                     std::to_string(best_i));
   return best;
 }
 

@@ -1,5 +1,6 @@
 #pragma once
 // The stages of Algorithm 1 (private to lib/registration).
+#include <pcl/PointIndices.h>
 #include <pcl/features/fpfh.h>
 
 #include "laserfit/registration/registration.hpp"
@@ -17,6 +18,10 @@ PclCloud::Ptr with_normals(const PclCloud::Ptr& cloud, const PclCloud::Ptr& surf
                            const PreprocessSettings& s, bool keep_side);
 PclCloud::Ptr coarser(const PclCloud::Ptr& fine, double cvox, const PreprocessSettings& s,
                       bool keep_side);
+// Euclidean clusters of `cloud` (gap above tolerance_mm), at least min_points each, largest first:
+// pcl::EuclideanClusterExtraction's answer (segment.cpp).
+std::vector<pcl::PointIndices> euclidean_clusters(const PclCloud::Ptr& cloud, double tolerance_mm,
+                                                  size_t min_points);
 // preprocess() in PCL types (what the stages consume); throws Error when too little is left.
 PclCloud::Ptr prepare(const PointCloud& in, const PreprocessSettings& s, double voxel);
 

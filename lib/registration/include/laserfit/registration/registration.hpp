@@ -46,10 +46,15 @@ struct RegistrationResult {
   // the attempts that fit as well converged; the plateau the slide search covers.
   double flat_from_mm = 0, flat_to_mm = 0;
   double voxel_mm = 0;
-  int part = -1;  // the candidate part registered (register_segmented's index; -1: the whole scan)
+  // The candidate part registered: register_segmented's index, kRegrownPart, or -1 (the whole
+  // scan).
+  int part = -1;
   std::map<std::string, double> timings_s;  // per stage
   std::vector<std::string> log;             // one line per attempt and decision
 };
+
+// RegistrationResult::part of a pose registered again on the scan points near the pose found.
+inline constexpr int kRegrownPart = -2;
 
 // What a scanner sees of the part placed at T_scan_ref (a view reference, e.g.
 // scan::view_reference).
@@ -105,7 +110,7 @@ PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& 
 // first — stopping at the first `ok`; returns the best (ok before
 // ambiguous before failed, then lowest fitness); `cluster` receives its index. A best result with
 // unobservable directions is refined once more on the scan points near the pose found (a part
-// cut in two by a shadow); when that is better, `cluster` is the number of candidate parts.
+// cut in two by a shadow); when that is better, `cluster` is kRegrownPart.
 RegistrationResult register_segmented(const PointCloud& scan, const PointCloud& ref,
                                       const RegistrationSettings& settings, int max_clusters = 4,
                                       int* cluster = nullptr);
