@@ -52,6 +52,12 @@ void check_inputs(const PointCloud& scan, const PointCloud& ref, const Registrat
 // Refuses a scan and a reference whose extents differ by a unit's factor (Error names both).
 void check_scale(const PointCloud& scan, const PointCloud& ref);
 
+// register_segmented on a scan whose mixed pixels are removed already, in t_clean seconds
+// (segmented.cpp): register_in_view registers one scan twice.
+RegistrationResult register_cleaned(const PointCloud& scan, double t_clean, const PointCloud& ref,
+                                    const RegistrationSettings& s, int max_clusters,
+                                    int* cluster = nullptr);
+
 // Algorithm 1, line 1 and the features of line 4 (attempts.cpp).
 Problem prepare_problem(const PointCloud& scan, const PointCloud& ref,
                         const RegistrationSettings& s, RegistrationResult& r);

@@ -228,18 +228,23 @@ RegistrationResult register_segmented(const PointCloud& scan_in, const PointClou
                                       const RegistrationSettings& s, int max_clusters,
                                       int* cluster) {
   if (uses_thin_detector(ref, s)) return detect_thin_part(scan_in, ref, s);  // segments itself
-  check_slide_settings(s.trust);
   const auto t0 = Clock::now();
   PointCloud scan = scan_in;
   remove_mixed_pixels(scan);
+  return register_cleaned(scan, since(t0), ref, s, max_clusters, cluster);
+}
+
+RegistrationResult register_cleaned(const PointCloud& scan, double t_clean, const PointCloud& ref,
+                                    const RegistrationSettings& s, int max_clusters,
+                                    int* cluster) {
+  check_slide_settings(s.trust);
   const double voxel = s.pre.voxel_mm > 0 ? s.pre.voxel_mm : auto_voxel_mm(ref);
   Candidates parts(scan, ref, s, voxel);
-  const double t_scan = since(t0) - parts.seconds;  // the copy, the mixed pixels
   auto [best, best_i] = register_parts(parts, ref, s, max_clusters);
   if (s.policies.regrow && regrow(scan, ref, s, best)) best_i = kRegrownPart;
   if (cluster) *cluster = best_i;
   best.part = best_i;
-  best.timings_s["segment"] = t_scan + parts.seconds;  // with clusters found on demand
+  best.timings_s["segment"] = t_clean + parts.seconds;  // with clusters found on demand
   best.log.push_back("segmentation: " + parts.describe() + ", registered part " +
                      std::to_string(best_i));
   return best;

@@ -1,9 +1,9 @@
 // Registration against a view reference that follows the pose found (registration.hpp).
-#include <chrono>
 #include <cmath>
 
+#include "driver.hpp"
 #include "laserfit/core/error.hpp"
-#include "laserfit/registration/registration.hpp"
+#include "laserfit/registration/preprocess.hpp"
 
 namespace laserfit::registration {
 
@@ -16,12 +16,16 @@ bool has_pose(const RegistrationResult& r) { return r.overlap > 0 && std::isfini
 RegistrationResult register_in_view(const PointCloud& scan, const PointCloud& ref,
                                     const ViewSampler& view, const RegistrationSettings& s,
                                     int max_clusters) {
-  RegistrationResult first = register_segmented(scan, ref, s, max_clusters);
-  if (!view || !s.policies.view || uses_thin_detector(ref, s) || !has_pose(first)) return first;
-  const auto t0 = std::chrono::steady_clock::now();
+  if (!view || !s.policies.view || uses_thin_detector(ref, s))
+    return register_segmented(scan, ref, s, max_clusters);
+  auto t0 = Clock::now();
+  PointCloud cleaned = scan;  // once for both passes
+  remove_mixed_pixels(cleaned);
+  RegistrationResult first = register_cleaned(cleaned, since(t0), ref, s, max_clusters);
+  if (!has_pose(first)) return first;
+  t0 = Clock::now();
   const PointCloud seen = view(first.T_scan_ref);
-  const double t_view =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double t_view = since(t0);
   const auto note = [&](RegistrationResult& r, const std::string& line) {
     r.log.push_back(line);
     r.timings_s["view"] = t_view;
@@ -37,7 +41,7 @@ RegistrationResult register_in_view(const PointCloud& scan, const PointCloud& re
   again.prior = first.T_scan_ref;
   RegistrationResult second;
   try {
-    second = register_segmented(scan, seen, again, max_clusters);
+    second = register_cleaned(cleaned, 0, seen, again, max_clusters);
   } catch (const Error& e) {
     note(first, std::string("view at the pose found: ") + e.what() + " -> kept");
     return first;
