@@ -335,6 +335,7 @@ TEST(Search, EuclideanClustersEqualPcl) {
       std::vector<pcl::PointIndices> expected;
       ec.extract(expected);
       ASSERT_EQ(mine.size(), expected.size());
-      for (size_t k = 0; k < expected.size(); ++k) ASSERT_EQ(mine[k].indices, expected[k].indices) << k;
+      for (size_t k = 0; k < expected.size(); ++k)
+        ASSERT_EQ(mine[k].indices, expected[k].indices) << k;
     }
 }

@@ -72,7 +72,7 @@ class Candidates {
  public:
   Candidates(const PointCloud& scan, const PointCloud& ref, const RegistrationSettings& s,
              double voxel)
-      : scan_(scan), ref_(ref), s_(s), voxel_(voxel) {
+      : scan_(scan), s_(s), voxel_(voxel) {
     const auto t0 = Clock::now();
     if (s.prior) {
       at_ = placed_centroid(ref, *s.prior);
@@ -128,7 +128,7 @@ class Candidates {
     std::stable_sort(order_.begin(), order_.end(),
                      [&](int a, int b) { return dist[size_t(a)] < dist[size_t(b)]; });
   }
-  const PointCloud &scan_, &ref_;
+  const PointCloud& scan_;
   const RegistrationSettings& s_;
   const double voxel_;
   Eigen::Vector3f at_ = Eigen::Vector3f::Zero();
@@ -235,8 +235,7 @@ RegistrationResult register_segmented(const PointCloud& scan_in, const PointClou
 }
 
 RegistrationResult register_cleaned(const PointCloud& scan, double t_clean, const PointCloud& ref,
-                                    const RegistrationSettings& s, int max_clusters,
-                                    int* cluster) {
+                                    const RegistrationSettings& s, int max_clusters, int* cluster) {
   check_slide_settings(s.trust);
   const double voxel = s.pre.voxel_mm > 0 ? s.pre.voxel_mm : auto_voxel_mm(ref);
   Candidates parts(scan, ref, s, voxel);
