@@ -15,10 +15,13 @@ std::vector<pcl::PointIndices> euclidean_clusters(const PclCloud::Ptr& cloud, do
                                                   size_t min_points) {
   // pcl::EuclideanClusterExtraction::extract without its index list, which would send every
   // search through FLANN's OpenMP region per query (three quarters of the clustering's time):
-  // the same searches on the same tree, the same clusters in the same order.
+  // the same searches on the same tree, the same clusters in the same order. Unsorted
+  // neighbours: a cluster is the connected component of its seed (the sorted search only skips
+  // the query itself, found first), and no two sampled points coincide (one per voxel).
   std::vector<pcl::PointIndices> found;
   if (cloud->empty()) return found;
   Tree::Ptr tree(new Tree);
+  tree->setSortedResults(false);
   tree->setInputCloud(cloud);
   pcl::extractEuclideanClusters(*cloud, tree, float(tolerance_mm), found,
                                 static_cast<unsigned>(min_points), unsigned(cloud->size()));

@@ -19,7 +19,7 @@ PclCloud::Ptr with_normals(const PclCloud::Ptr& cloud, const PclCloud::Ptr& surf
 PclCloud::Ptr coarser(const PclCloud::Ptr& fine, double cvox, const PreprocessSettings& s,
                       bool keep_side);
 // Euclidean clusters of `cloud` (gap above tolerance_mm), at least min_points each, largest first:
-// pcl::EuclideanClusterExtraction's answer (segment.cpp).
+// pcl::EuclideanClusterExtraction's answer for a cloud without coincident points (segment.cpp).
 std::vector<pcl::PointIndices> euclidean_clusters(const PclCloud::Ptr& cloud, double tolerance_mm,
                                                   size_t min_points);
 // preprocess() in PCL types (what the stages consume); throws Error when too little is left.
