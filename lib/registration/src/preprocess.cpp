@@ -95,7 +95,7 @@ PclCloud::Ptr remove_outliers(const PclCloud::Ptr& in, int k, double std_mul) {
 PclCloud::Ptr sample_and_filter(const PointCloud& c, const PreprocessSettings& s, double voxel) {
   // The input point nearest each voxel centre (pcl::UniformSampling's choice and order).
   PclCloud::Ptr d = to_pcl(c, uniform_sample(c.points, voxel));
-  if (s.outlier_std > 0 && d->size() > size_t(s.outlier_neighbours))
+  if (s.outlier_std > 0 && s.outlier_neighbours > 0 && d->size() > size_t(s.outlier_neighbours))
     d = remove_outliers(d, s.outlier_neighbours, s.outlier_std);
   return d;
 }
