@@ -52,8 +52,14 @@ void check_inputs(const PointCloud& scan, const PointCloud& ref, const Registrat
 // Refuses a scan and a reference whose extents differ by a unit's factor (Error names both).
 void check_scale(const PointCloud& scan, const PointCloud& ref);
 
-// register_segmented on a scan whose mixed pixels are removed already, in t_clean seconds
-// (segmented.cpp): register_in_view registers one scan twice.
+// A copy of a scan without its mixed pixels, and the seconds that took (segmented.cpp).
+struct CleanedScan {
+  PointCloud scan;
+  double seconds = 0;
+};
+CleanedScan clean_scan(const PointCloud& scan);
+// register_segmented on a cleaned scan, its cleaning counted in t_clean seconds of segmentation:
+// register_in_view registers one scan twice.
 RegistrationResult register_cleaned(const PointCloud& scan, double t_clean, const PointCloud& ref,
                                     const RegistrationSettings& s, int max_clusters,
                                     int* cluster = nullptr);

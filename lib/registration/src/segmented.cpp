@@ -228,10 +228,16 @@ RegistrationResult register_segmented(const PointCloud& scan_in, const PointClou
                                       const RegistrationSettings& s, int max_clusters,
                                       int* cluster) {
   if (uses_thin_detector(ref, s)) return detect_thin_part(scan_in, ref, s);  // segments itself
+  const CleanedScan c = clean_scan(scan_in);
+  return register_cleaned(c.scan, c.seconds, ref, s, max_clusters, cluster);
+}
+
+CleanedScan clean_scan(const PointCloud& scan) {
   const auto t0 = Clock::now();
-  PointCloud scan = scan_in;
-  remove_mixed_pixels(scan);
-  return register_cleaned(scan, since(t0), ref, s, max_clusters, cluster);
+  CleanedScan c{scan};
+  remove_mixed_pixels(c.scan);
+  c.seconds = since(t0);
+  return c;
 }
 
 RegistrationResult register_cleaned(const PointCloud& scan, double t_clean, const PointCloud& ref,

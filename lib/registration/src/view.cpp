@@ -3,7 +3,6 @@
 
 #include "driver.hpp"
 #include "laserfit/core/error.hpp"
-#include "laserfit/registration/preprocess.hpp"
 
 namespace laserfit::registration {
 
@@ -18,12 +17,10 @@ RegistrationResult register_in_view(const PointCloud& scan, const PointCloud& re
                                     int max_clusters) {
   if (!view || !s.policies.view || uses_thin_detector(ref, s))
     return register_segmented(scan, ref, s, max_clusters);
-  auto t0 = Clock::now();
-  PointCloud cleaned = scan;  // once for both passes
-  remove_mixed_pixels(cleaned);
-  RegistrationResult first = register_cleaned(cleaned, since(t0), ref, s, max_clusters);
+  const CleanedScan cleaned = clean_scan(scan);  // once for both passes
+  RegistrationResult first = register_cleaned(cleaned.scan, cleaned.seconds, ref, s, max_clusters);
   if (!has_pose(first)) return first;
-  t0 = Clock::now();
+  const auto t0 = Clock::now();
   const PointCloud seen = view(first.T_scan_ref);
   const double t_view = since(t0);
   const auto note = [&](RegistrationResult& r, const std::string& line) {
@@ -41,7 +38,7 @@ RegistrationResult register_in_view(const PointCloud& scan, const PointCloud& re
   again.prior = first.T_scan_ref;
   RegistrationResult second;
   try {
-    second = register_cleaned(cleaned, 0, seen, again, max_clusters);
+    second = register_cleaned(cleaned.scan, 0, seen, again, max_clusters);
   } catch (const Error& e) {
     note(first, std::string("view at the pose found: ") + e.what() + " -> kept");
     return first;
