@@ -3,7 +3,9 @@
 // normal n rotated into the scan frame; robust loss (Huber / Cauchy / Tukey); analytic Jacobian
 // of the left perturbation T <- exp([w, v]) T:  d r / d[w, v] = [(Tp x n)^T, n^T].
 // Multi-scale: the correspondence gate halves from max(4x, initial_gate_mm) down to 1x as the pose
-// converges.
+// converges. Each iteration re-matches and solves the robust linearised problem: by iteratively
+// reweighted Gauss-Newton (a 6x6 solve) until the pose settles, then at the finest gate by Ceres
+// until its step is negligible too, so the pose returned is the minimum Ceres finds.
 // The perturbation is taken about the matched points' centroid c, not the scan origin (which can
 // be half a metre away in the robot base frame): there a small rotation is also a large
 // translation, the two columns of the Jacobian are badly scaled, and a linearised step along a
@@ -31,6 +33,9 @@ class PointToPlane final : public ceres::SizedCostFunction<1, 6> {
     }
     return true;
   }
+
+  Vector6d jacobian() const { return (Vector6d() << p_.cross(n_), n_).finished(); }
+  double residual0() const { return n_.dot(p_ - q_); }
 
  private:
   Eigen::Vector3d p_, q_, n_;
@@ -69,6 +74,91 @@ ceres::LossFunction* make_loss(RobustLoss loss, double scale) {
   return nullptr;
 }
 
+// The problem of one iteration: the matches about their centroid c (rotations taken there),
+// with the damping's weight and the RMS radius L that scales it.
+struct Linearised {
+  std::deque<PointToPlane> rows;  // not moved as it grows: Ceres holds their addresses
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  double damping = 0, L = 1;
+};
+
+Linearised linearise(const std::vector<Match>& M) {
+  Linearised lin;
+  for (const auto& x : M) lin.c += x.q;
+  lin.c /= double(M.size());
+  double L2 = 0;
+
+  for (const auto& x : M) {
+    lin.rows.emplace_back(x.p - lin.c, x.q - lin.c, x.n);
+    L2 += (x.q - lin.c).squaredNorm();
+  }
+  lin.damping = 1e-3 * std::sqrt(double(M.size())), lin.L = std::sqrt(L2 / double(M.size()));
+  return lin;
+}
+
+// Ceres's Levenberg-Marquardt on the robust linearised problem: the step the method is named for.
+Vector6d solve_ceres(const Linearised& lin, ceres::LossFunction* loss, ceres::Context* context) {
+  ceres::Problem::Options po;
+  po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  po.disable_all_safety_checks = true;  // one parameter block, every residual built right here
+  po.context = context;
+  ceres::Problem problem(po);
+  Vector6d delta = Vector6d::Zero();
+  for (const auto& row : lin.rows)
+    problem.AddResidualBlock(const_cast<PointToPlane*>(&row), loss, delta.data());
+  Damping damping(lin.damping, lin.L);
+  problem.AddResidualBlock(&damping, nullptr, delta.data());
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = 10;
+  so.num_threads = 1;  // deterministic
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  return delta;
+}
+
+// The same minimum by iteratively reweighted least squares: the loss's weights rho'(r^2) at the
+// current step, then the 6x6 normal equations with the damping (small_gicp's robust Gauss-Newton).
+// Each sweep costs one pass over the matches instead of a Ceres evaluation per residual.
+// Largest displacement of a point reach_mm from c under the step: the update's size in mm.
+double displacement(const Vector6d& delta, double reach_mm) {
+  return delta.tail<3>().norm() + delta.head<3>().norm() * reach_mm;
+}
+
+Vector6d solve_irls(const Linearised& lin, const ceres::LossFunction* loss, double reach_mm,
+                    double tolerance_mm) {
+  Vector6d delta = Vector6d::Zero();
+  Matrix6d D2 = Matrix6d::Zero();
+  for (int k = 0; k < 6; ++k) D2(k, k) = std::pow(lin.damping * (k < 3 ? lin.L : 1.0), 2);
+  for (int sweep = 0; sweep < 10; ++sweep) {
+    Matrix6d H = D2;
+    Vector6d g = Vector6d::Zero();
+    for (const auto& row : lin.rows) {
+      const Vector6d J = row.jacobian();
+      const double r0 = row.residual0(), r = r0 + J.dot(delta);
+      double rho[3] = {0, 1, 0};
+      if (loss) loss->Evaluate(r * r, rho);
+      H.selfadjointView<Eigen::Lower>().rankUpdate(J, rho[1]);
+      g += rho[1] * r0 * J;
+    }
+    const Vector6d next = H.selfadjointView<Eigen::Lower>().ldlt().solve(-g);
+    const double moved = displacement(next - delta, reach_mm);
+    delta = next;
+    if (!loss || moved < tolerance_mm) break;
+  }
+  return delta;
+}
+
+// x -> exp(w) (x - c) + c + v, applied to the pose (the left perturbation about c).
+Pose step_about(const Vector6d& delta, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d w = delta.head<3>(), v = delta.tail<3>();
+  Pose step = Pose::Identity();
+  if (w.norm() > 0) step.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
+  step.translation() = c - step.linear() * c + v;
+  return step;
+}
+
 }  // namespace
 
 RefineOutput refine_ceres(const RefineInput& in) {
@@ -79,50 +169,31 @@ RefineOutput refine_ceres(const RefineInput& in) {
   for (double sc = std::max(4.0, in.s.initial_gate_mm / fine); sc > 1.0; sc /= 2)
     scales.push_back(sc);
   scales.push_back(1.0);
-  // The problem owns none of its pieces: the residuals live in one deque (not one allocation
-  // each), and one context serves every solve of this refinement.
-  std::unique_ptr<ceres::Context> context(ceres::Context::Create());
-  ceres::Problem::Options po;
-  po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  po.disable_all_safety_checks = true;  // one parameter block, every residual built right here
-  po.context = context.get();
-  std::deque<PointToPlane> residuals;  // not moved as it grows: Ceres holds their addresses
+  std::unique_ptr<ceres::Context> context(ceres::Context::Create());  // one for every solve
+  const double reach = 10 * in.voxel;  // the update is negligible when points this far out stay
   for (const double scale : scales) {
     const double gate = scale * fine;
+    std::unique_ptr<ceres::LossFunction> loss(
+        make_loss(in.s.robust_loss, in.s.robust_scale_vox * scale * in.voxel));
+    // Robust Gauss-Newton until the pose settles; at the finest gate Ceres then solves from
+    // there until its step is negligible too: the pose returned is Ceres's minimum.
+    bool polish = false;
     for (int it = 0; it < in.s.max_iterations; ++it, ++out.iterations) {
-      ceres::Problem problem(po);
-      std::unique_ptr<ceres::LossFunction> loss(
-          make_loss(in.s.robust_loss, in.s.robust_scale_vox * scale * in.voxel));
-      double delta[6] = {0, 0, 0, 0, 0, 0};
       const auto M = match(*in.scan, *in.ref_tree, out.T, {gate, in.oriented});
       if (M.size() < 6) break;  // cannot constrain six degrees of freedom
-      Eigen::Vector3d c = Eigen::Vector3d::Zero();
-      for (const auto& x : M) c += x.q;
-      c /= double(M.size());
-      double L2 = 0;
-      residuals.clear();
-      for (const auto& x : M) {
-        residuals.emplace_back(x.p - c, x.q - c, x.n);
-        problem.AddResidualBlock(&residuals.back(), loss.get(), delta);
-        L2 += (x.q - c).squaredNorm();
-      }
-      Damping damping(1e-3 * std::sqrt(double(M.size())), std::sqrt(L2 / double(M.size())));
-      problem.AddResidualBlock(&damping, nullptr, delta);
-      ceres::Solver::Options so;
-      so.linear_solver_type = ceres::DENSE_QR;
-      so.max_num_iterations = 10;
-      so.num_threads = 1;  // deterministic
-      ceres::Solver::Summary summary;
-      ceres::Solve(so, &problem, &summary);
-      const Eigen::Map<const Eigen::Vector3d> w(delta), v(delta + 3);
-      Pose step = Pose::Identity();  // x -> exp(w) (x - c) + c + v
-      if (w.norm() > 0)
-        step.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
-      step.translation() = c - step.linear() * c + v;
-      out.T = step * out.T;
-      // Largest displacement of a point 10 voxels out: the update is negligible below this.
-      if (v.norm() + w.norm() * 10 * in.voxel < in.s.convergence_mm) break;
+      const Linearised lin = linearise(M);
+      const bool ceres_step = polish || (scale == 1.0 && it + 1 == in.s.max_iterations);
+      const Vector6d delta = ceres_step
+                                 ? solve_ceres(lin, loss.get(), context.get())
+                                 : solve_irls(lin, loss.get(), reach, 1e-3 * in.s.convergence_mm);
+      out.T = step_about(delta, lin.c) * out.T;
+      // A coarser gate only has to bring the pose well within the next one's reach.
+      const double settled = scale > 1.0
+                                 ? std::max(in.s.convergence_mm, in.s.coarse_convergence * gate)
+                                 : in.s.convergence_mm;
+      if (displacement(delta, reach) >= settled) continue;
+      if (scale > 1.0 || ceres_step) break;
+      polish = true;
     }
   }
   return out;
