@@ -17,6 +17,7 @@ PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& 
   // Copies slid at most one radius apart: their balls overlap, so the crop is one swept tube.
   const int n = radius > 0 ? int(std::ceil((to - from).norm() / radius - 1e-9)) : 0;
   std::vector<Eigen::Vector3f> placed;
+  placed.reserve(size_t(n + 1) * ref.points.size());  // millions of points for a swept crop
   Eigen::AlignedBox3f box;
   for (int k = 0; k <= n; ++k) {
     const Pose T =
@@ -33,6 +34,7 @@ PointCloud crop_near(const PointCloud& scan, const PointCloud& ref, const Pose& 
   box.min().array() -= float(radius), box.max().array() += float(radius);
   std::vector<size_t> at;
   std::vector<Eigen::Vector3f> queries;
+  at.reserve(scan.points.size()), queries.reserve(scan.points.size());
   for (size_t i = 0; i < scan.points.size(); ++i)
     if (scan.points[i].allFinite() && box.contains(scan.points[i]))
       queries.push_back(scan.points[i]), at.push_back(i);
