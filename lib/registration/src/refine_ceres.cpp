@@ -187,11 +187,7 @@ RefineOutput refine_ceres(const RefineInput& in) {
                                  ? solve_ceres(lin, loss.get(), context.get())
                                  : solve_irls(lin, loss.get(), reach, 1e-3 * in.s.convergence_mm);
       out.T = step_about(delta, lin.c) * out.T;
-      // A coarser gate only has to bring the pose well within the next one's reach.
-      const double settled = scale > 1.0
-                                 ? std::max(in.s.convergence_mm, in.s.coarse_convergence * gate)
-                                 : in.s.convergence_mm;
-      if (displacement(delta, reach) >= settled) continue;
+      if (displacement(delta, reach) >= in.s.convergence_mm) continue;
       if (scale > 1.0 || ceres_step) break;
       polish = true;
     }

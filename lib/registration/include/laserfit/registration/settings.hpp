@@ -46,11 +46,10 @@ struct CoarseSettings {
 
 struct RefineSettings {
   Refiner method = Refiner::Ceres;
-  double max_correspondence_vox = 2.0;  // ICP correspondence gate, in voxels
-  double initial_gate_mm = 1.0;         // ceres: first gate at least this (a prior's error)
-  int max_iterations = 60;              // per scale (ceres) / in total (PCL variants)
-  double convergence_mm = 1e-4;         // stop when the update moves points less than this
-  double coarse_convergence = 0.01;     // ceres: at the coarser gates, stop below this x the gate
+  double max_correspondence_vox = 2.0;         // ICP correspondence gate, in voxels
+  double initial_gate_mm = 1.0;                // ceres: first gate at least this (a prior's error)
+  int max_iterations = 60;                     // per scale (ceres) / in total (PCL variants)
+  double convergence_mm = 1e-4;                // stop when the update moves points less than this
   RobustLoss robust_loss = RobustLoss::Huber;  // ceres
   double robust_scale_vox = 0.1;  // ceres: robust loss scale at the finest gate, in voxels
                                   // (x4, x2 at the coarser gates)
