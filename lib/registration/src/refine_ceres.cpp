@@ -87,7 +87,6 @@ Linearised linearise(const std::vector<Match>& M) {
   for (const auto& x : M) lin.c += x.q;
   lin.c /= double(M.size());
   double L2 = 0;
-
   for (const auto& x : M) {
     lin.rows.emplace_back(x.p - lin.c, x.q - lin.c, x.n);
     L2 += (x.q - lin.c).squaredNorm();
@@ -97,7 +96,7 @@ Linearised linearise(const std::vector<Match>& M) {
 }
 
 // Ceres's Levenberg-Marquardt on the robust linearised problem: the step the method is named for.
-Vector6d solve_ceres(const Linearised& lin, ceres::LossFunction* loss, ceres::Context* context) {
+Vector6d solve_ceres(Linearised& lin, ceres::LossFunction* loss, ceres::Context* context) {
   ceres::Problem::Options po;
   po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -105,8 +104,7 @@ Vector6d solve_ceres(const Linearised& lin, ceres::LossFunction* loss, ceres::Co
   po.context = context;
   ceres::Problem problem(po);
   Vector6d delta = Vector6d::Zero();
-  for (const auto& row : lin.rows)
-    problem.AddResidualBlock(const_cast<PointToPlane*>(&row), loss, delta.data());
+  for (auto& row : lin.rows) problem.AddResidualBlock(&row, loss, delta.data());
   Damping damping(lin.damping, lin.L);
   problem.AddResidualBlock(&damping, nullptr, delta.data());
   ceres::Solver::Options so;
@@ -118,14 +116,14 @@ Vector6d solve_ceres(const Linearised& lin, ceres::LossFunction* loss, ceres::Co
   return delta;
 }
 
-// The same minimum by iteratively reweighted least squares: the loss's weights rho'(r^2) at the
-// current step, then the 6x6 normal equations with the damping (small_gicp's robust Gauss-Newton).
-// Each sweep costs one pass over the matches instead of a Ceres evaluation per residual.
 // Largest displacement of a point reach_mm from c under the step: the update's size in mm.
 double displacement(const Vector6d& delta, double reach_mm) {
   return delta.tail<3>().norm() + delta.head<3>().norm() * reach_mm;
 }
 
+// The robust minimum by iteratively reweighted least squares: the loss's weights rho'(r^2) at the
+// current step, then the 6x6 normal equations with the damping (small_gicp's robust Gauss-Newton).
+// Each sweep costs one pass over the matches instead of a Ceres evaluation per residual.
 Vector6d solve_irls(const Linearised& lin, const ceres::LossFunction* loss, double reach_mm,
                     double tolerance_mm) {
   Vector6d delta = Vector6d::Zero();
@@ -181,7 +179,7 @@ RefineOutput refine_ceres(const RefineInput& in) {
     for (int it = 0; it < in.s.max_iterations; ++it, ++out.iterations) {
       const auto M = match(*in.scan, *in.ref_tree, out.T, {gate, in.oriented});
       if (M.size() < 6) break;  // cannot constrain six degrees of freedom
-      const Linearised lin = linearise(M);
+      Linearised lin = linearise(M);
       const bool ceres_step = polish || (scale == 1.0 && it + 1 == in.s.max_iterations);
       const Vector6d delta = ceres_step
                                  ? solve_ceres(lin, loss.get(), context.get())
