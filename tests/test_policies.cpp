@@ -159,7 +159,7 @@ TEST(Policies, EachCanBeSwitchedOffInTheDriver) {
   const Plug& P = plug();
   reg::RegistrationSettings s = P.s;
   s.q0 = Eigen::Quaterniond(P.T_scan_ref.rotation());
-  s.policies = {false, false, false, false, false, false, false, false};
+  s.policies = {false, false, false, false, false, false, false, false, false};
   s.trust.slide_range_mm = 0, s.trust.jackknife_blocks = 0;
   const auto r = reg::register_cloud(P.scan, P.ref, s);
   ASSERT_NE(r.status, reg::Status::Failed) << r.reason;

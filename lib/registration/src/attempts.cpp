@@ -25,6 +25,7 @@ Problem prepare_problem(const PointCloud& scan_in, const PointCloud& ref_in,
   t = Clock::now();
   const auto ref = prepared_reference(ref_in, s, p.voxel, p.coarse);
   p.ref = ref->ref, p.ref_tree = ref->tree, p.ref_c = ref->coarse, p.ref_f = ref->features;
+  p.prepared = ref;
   r.timings_s["reference"] = since(t);
 
   t = Clock::now();

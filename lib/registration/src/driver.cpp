@@ -25,6 +25,7 @@ RegistrationResult register_cloud(const PointCloud& scan, const PointCloud& ref,
     if (s.policies.rivals) reject_rivals(p, a, *best, r);
     if (s.policies.confirm) require_confirmation(p, a, *best, r);
     if (s.policies.consistent) require_consistent_residuals(p, r);  // refine-only
+    if (s.policies.twins) probe_twins(p, *best, r);
     check_pinned(s.trust, r);  // the block jackknife: off with trust.jackknife_blocks = 0
   }
   const auto sl = r.timings_s.find("slide");

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "reference_cache.hpp"
 #include "stages.hpp"
 
 namespace laserfit::registration {
@@ -25,6 +26,7 @@ struct Problem {
   Matcher matcher;                // the refinement's correspondence gate
   RefineFn refine = nullptr;      // s.refine.method
   bool coarse = true;             // false: refine the prior only (skip_coarse)
+  std::shared_ptr<const PreparedReference> prepared;  // what ref, ref_tree ... came from
   RefineInput refine_input(const Pose& T_scan_ref_init) const {
     return {ref, scan, scan_tree, ref_tree, T_scan_ref_init, voxel, s.refine, s.pre.use_viewpoint};
   }
@@ -87,5 +89,8 @@ void reject_rivals(const Problem& p, const Attempts& a, const Candidate& best,
 void require_confirmation(const Problem& p, const Attempts& a, const Candidate& best,
                           RegistrationResult& r);
 void require_consistent_residuals(const Problem& p, RegistrationResult& r);
+// twins.cpp: an ok pose turned by each near-symmetry of the reference and refined; one the scan
+// does not tell apart from it -> ambiguous, one it clearly prefers replaces it.
+void probe_twins(const Problem& p, Candidate& best, RegistrationResult& r);
 
 }  // namespace laserfit::registration

@@ -84,4 +84,9 @@ std::shared_ptr<const PreparedReference> prepared_reference(const PointCloud& re
   return prepared;
 }
 
+const std::vector<Twin>& PreparedReference::twins(double voxel) const {
+  std::call_once(twins_once_, [&] { twins_ = reference_twins(*ref, *tree, voxel); });
+  return twins_;
+}
+
 }  // namespace laserfit::registration
