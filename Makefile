@@ -26,7 +26,7 @@ FUZZ_PACKAGES := clang libfuzzer-14-dev libclang-rt-14-dev llvm python3
 BENCH_PACKAGES := python3 python3-numpy python3-open3d
 
 .PHONY: all install deps deps-bench deps-fuzz deps-slurm test-slurm build-asan test-asan fuzz fuzz-campaign fuzz-campaign-cli install-packages configure build test demo cad bench bench-cad bench-scan \
-  bench-registration bench-registration-speed bench-quick bench-suites tune report paper clean format
+  bench-registration bench-registration-speed bench-global bench-quick bench-suites tune report paper clean format
 
 all: build
 
@@ -228,6 +228,16 @@ bench-registration: build deps-bench bench-registration-speed
 	$(BIN)/laserfit bench generate benchmarks/registration.yaml --repetitions 0:$(O3D_TRIALS) -o datasets/registration
 	/usr/bin/python3 benchmarks/registration/open3d_baseline.py datasets/registration $(BENCH_OUT)/registration/open3d.jsonl
 	$(BIN)/laserfit report $(BENCH_OUT)/registration/results.jsonl $(BENCH_OUT)/registration/open3d.jsonl -o $(REG_OUT)
+
+# Registration with no prior (issue 35): real parts at random poses, and Open3D on the first
+# GLOBAL_O3D_TRIALS scans of each part, after laserfit, so the timings do not share the CPUs.
+GLOBAL_OUT := $(RESULTS)/registration/global
+GLOBAL_O3D_TRIALS ?= 5
+bench-global: build deps-bench
+	$(BIN)/laserfit bench benchmarks/global.yaml --out $(BENCH_OUT)/global --jobs $(BENCH_JOBS)
+	$(BIN)/laserfit bench generate benchmarks/global.yaml --repetitions 0:$(GLOBAL_O3D_TRIALS) -o datasets/global
+	/usr/bin/python3 benchmarks/registration/open3d_baseline.py datasets/global $(BENCH_OUT)/global/open3d.jsonl
+	$(BIN)/laserfit report $(BENCH_OUT)/global/results.jsonl $(BENCH_OUT)/global/open3d.jsonl -o $(GLOBAL_OUT)
 
 # Registration speed on a 1 M-point scan (Google Benchmark, run on an otherwise idle machine).
 bench-registration-speed: build

@@ -50,8 +50,10 @@ TEST(Bench, BadDefinitionsAreErrorsNamingTheFile) {
        "duplicate"},
       {"name: x\nscenes:\n  - {name: a, scene: s.yaml, targets: [{object: o, weak_rotation: w}]}\n",
        "weak_rotation"},
-      {"name: x\nscenes:\n  - {name: a, scene: s.yaml, targets: [{object: o, pivot: centre}]}\n",
+      {"name: x\nscenes:\n  - {name: a, scene: s.yaml, targets: [{object: o, pivot: middle}]}\n",
        "pivot"},
+      {"name: x\nscenes:\n  - {name: a, scene: s.yaml, prior: maybe, targets: [{object: o}]}\n",
+       "prior"},
       {"name: x\ntrials: 0\n" + good.substr(8), "trials"},
       {"[1, 2", "not valid YAML"}};
   for (const auto& [text, what] : cases) {
@@ -112,7 +114,7 @@ TEST(Bench, GridTrialsAreDeterministicAndShardsPartitionThem) {
 TEST(Bench, PerturbationsTurnAboutTheChosenPivot) {
   test::TempDir dir;
   tiny_benchmark(dir);  // writes scene.yaml
-  for (const std::string pivot : {"origin", "view"}) {
+  for (const std::string pivot : {"origin", "view", "centre"}) {
     test::write_text(dir / "p.yaml",
                      "name: p\nseed: 5\nmode: random\ntrials: 4\n"
                      "conditions: {rotation_deg: 30, translation_mm: 0.5}\n"
@@ -141,6 +143,28 @@ TEST(Bench, PerturbationsTurnAboutTheChosenPivot) {
       EXPECT_GT(origin_moved, 0.5) << "the seen part's centroid is away from the origin";
     }
   }
+}
+
+// prior: none registers globally: the trial carries no prior, its ground-truth file has no
+// "prior" and reading that file back keeps it so (exact: flags, not numbers).
+TEST(Bench, PriorNoneLeavesTheTrialWithoutAPrior) {
+  test::TempDir dir;
+  tiny_benchmark(dir);  // writes scene.yaml
+  test::write_text(dir / "g.yaml",
+                   "name: g\nseed: 5\ntrials: 1\nscenes:\n  - name: usb\n    scene: scene.yaml\n"
+                   "    prior: none\n    targets:\n"
+                   "      - {object: usb_a_receptacle, reference_points: 5000}\n");
+  const auto b = bench::load_benchmark(dir / "g.yaml");
+  ASSERT_FALSE(b.scenes[0].use_prior);
+  const auto p = bench::prepare_scene(b, 0);
+  EXPECT_FALSE(bench::trial_input(b, p, bench::enumerate_trials(b)[0]).has_prior);
+  const std::string out = dir / "d";
+  bench::generate_dataset(b, out, 1, {}, {"usb"});
+  const std::string gt = out + "/gt/0.json";
+  EXPECT_FALSE(io::read_json(gt).at("targets").at(0).contains("prior"));
+  const auto in = bench::read_trial(p, out + "/scans/0.pcd", gt);
+  EXPECT_FALSE(in.has_prior);
+  EXPECT_EQ(in.prior.size(), in.truth.size());
 }
 
 TEST(Bench, UntunedThresholdsAreTheDefaultSettings) {

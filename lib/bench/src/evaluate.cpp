@@ -147,7 +147,8 @@ AtTruth at_truth(const Benchmark& b, const PreparedScene& p, const Trial& t, con
   const Target& tg = b.scenes[t.scene].targets[k];
   registration::RegistrationSettings s =
       method_settings(registration::Method::Ceres, tg, thresholds);
-  s.q0 = Eigen::Quaterniond(in.truth[k].rotation());
+  // Without a prior no gate: the scan must tell the truth from every near-symmetric twin.
+  if (in.has_prior) s.q0 = Eigen::Quaterniond(in.truth[k].rotation());
   use_viewpoint(s, in.scan), s.seed = t.seed;
   s.prior = in.truth[k], s.skip_coarse = true;
   // Whether the scan determines the pose, not whether a refinement found it: refined from the
@@ -178,7 +179,7 @@ registration::RegistrationResult register_target(const Benchmark& b, const Prepa
   const Target& tg = b.scenes[t.scene].targets[k];
   const bool paper = m == registration::Method::Paper;
   auto rs = method_settings(m, tg, o.thresholds);
-  if (in.has_prior) {  // a recorded scan without scene_prior.json registers globally
+  if (in.has_prior) {  // else (prior: none, no scene_prior.json) it registers globally
     rs.q0 = Eigen::Quaterniond(in.prior[k].rotation());
     if (!paper) rs.prior = in.prior[k];
   }

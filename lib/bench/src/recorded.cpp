@@ -167,10 +167,10 @@ TrialInput recorded_trial(const SceneCase& sc, const PreparedScene& p, const Tri
   if (in.scan_points == 0) throw Error(scan, "has no valid point");
   const std::string gt = sc.recorded_dir + "/scene_gt.json",
                     pr = sc.recorded_dir + "/scene_prior.json";
-  in.has_prior = sc.has_prior;
+  in.has_prior = sc.has_prior && sc.use_prior;
   for (size_t k = 0; k < sc.targets.size(); ++k) {
     in.truth.push_back(pose_in(sc.truth, gt, t.image, sc.targets[k]));
-    in.prior.push_back(sc.has_prior ? pose_in(sc.prior, pr, t.image, sc.targets[k])
+    in.prior.push_back(in.has_prior ? pose_in(sc.prior, pr, t.image, sc.targets[k])
                                     : Pose::Identity());
     check_placement(gt, box, p.reference[k], in.truth[k], sc.targets[k].object);
   }

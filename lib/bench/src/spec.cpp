@@ -87,8 +87,8 @@ Target read_target(const YamlReader& R, const YAML::Node& t, const std::string& 
   if (expect != "pose" && expect != "failure") R.fail(where + ".expect", "must be pose or failure");
   tg.expect_failure = expect == "failure";
   tg.pivot = R.str(t, "pivot", "origin", where);
-  if (tg.pivot != "origin" && tg.pivot != "view")
-    R.fail(where + ".pivot", "must be origin or view");
+  if (tg.pivot != "origin" && tg.pivot != "view" && tg.pivot != "centre")
+    R.fail(where + ".pivot", "must be origin, view or centre");
   for (const char* key : {"weak_rotation", "weak_translation"}) {
     if (!t[key]) continue;
     const std::string a = R.str(t, key, "", where);
@@ -120,7 +120,7 @@ void check_target_source(const YamlReader& R, const SceneCase& sc, const Target&
 
 SceneCase read_scene_case(const YamlReader& R, const YAML::Node& s, const std::string& where,
                           const std::filesystem::path& dir) {
-  R.only(s, where, {"name", "scene", "recorded", "unit", "targets"});
+  R.only(s, where, {"name", "scene", "recorded", "unit", "prior", "targets"});
   SceneCase sc;
   sc.name = R.str(s, "name", "", where);
   if (sc.name.empty()) R.fail(where + ".name", "missing");
@@ -142,6 +142,9 @@ SceneCase read_scene_case(const YamlReader& R, const YAML::Node& s, const std::s
   } else if (s["unit"]) {
     R.fail(where + ".unit", "belongs to recorded scenes (a scan scene states its own units)");
   }
+  const std::string prior = R.str(s, "prior", "cell", where);
+  if (prior != "cell" && prior != "none") R.fail(where + ".prior", "must be cell or none");
+  sc.use_prior = prior == "cell";
   const auto targets = R.need(s, "targets", where);
   if (!targets.IsSequence() || targets.size() == 0)
     R.fail(where + ".targets", "expected a non-empty list");

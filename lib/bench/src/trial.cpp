@@ -156,6 +156,8 @@ PreparedScene prepare_scene(const Benchmark& b, int scene) {
         throw Error(b.file, "pivot: view: the nominal sweep sees nothing of '" + t.object + "'");
       for (const auto& q : seen.points) pivot += q.cast<double>();
       pivot /= double(seen.points.size());
+    } else if (t.pivot == "centre") {  // of the mesh's bounding box: a part turned in place
+      pivot = o.mesh.bbox().center().cast<double>();
     }
     p.pivot.push_back(pivot);
   }
@@ -192,6 +194,7 @@ TrialInput simulate_trial(const Benchmark& b, const PreparedScene& p, const Tria
   in.scan = r.cloud;
   in.scan_seed = r.seed;
   in.scan_points = r.stats.valid;
+  in.has_prior = b.scenes[t.scene].use_prior;
   for (size_t k = 0; k < p.object.size(); ++k) {
     in.truth.push_back(r.T_scan_object[p.object[k]]);
     in.prior.push_back(
@@ -212,7 +215,7 @@ io::Json input_json(const Benchmark& b, const PreparedScene& p, const Trial& t,
   io::Json cond = io::Json::object(), targets = io::Json::array();
   for (const auto& name : axis_names()) cond[name] = axis(t.conditions, name);
   const auto& sc = b.scenes[t.scene];
-  for (size_t k = 0; k < in.truth.size(); ++k)
+  for (size_t k = 0; k < in.truth.size(); ++k) {
     targets.push_back({{"object", sc.targets[k].object},
                        {"label", p.object[k]},  // scan label of its points
                        {"reference", "refs/" + sc.name + "_" + sc.targets[k].object + ".pcd"},
@@ -221,8 +224,9 @@ io::Json input_json(const Benchmark& b, const PreparedScene& p, const Trial& t,
                        {"pivot_mm", {p.pivot[k].x(), p.pivot[k].y(), p.pivot[k].z()}},
                        {"voxel_mm", sc.targets[k].voxel_mm},
                        {"expect", sc.targets[k].expect_failure ? "failure" : "pose"},
-                       {"T_scan_object", io::pose_to_json(in.truth[k])},
-                       {"prior", io::pose_to_json(in.prior[k])}});
+                       {"T_scan_object", io::pose_to_json(in.truth[k])}});
+    if (in.has_prior) targets.back()["prior"] = io::pose_to_json(in.prior[k]);  // none: global
+  }
   return {{"benchmark", b.name},        {"trial", t.index},
           {"scene", sc.name},           {"cell", t.cell},
           {"repetition", t.repetition}, {"seed", t.seed},
@@ -240,9 +244,11 @@ TrialInput read_trial(const PreparedScene& p, const std::string& scan_pcd,
     in.scan_points = j.at("scan_points").get<size_t>();
     const auto& targets = j.at("targets");
     if (targets.size() != p.object.size()) throw Error("target count differs from the benchmark");
+    in.has_prior = !targets.empty() && targets[0].contains("prior");
     for (const auto& t : targets) {
       in.truth.push_back(io::pose_from_json(t.at("T_scan_object"), gt_json));
-      in.prior.push_back(io::pose_from_json(t.at("prior"), gt_json));
+      in.prior.push_back(in.has_prior ? io::pose_from_json(t.at("prior"), gt_json)
+                                      : Pose::Identity());
     }
   } catch (const io::Json::exception& e) {
     throw Error(gt_json, std::string("not a laserfit ground-truth file: ") + e.what());

@@ -32,6 +32,8 @@ struct Target {
   // frame's origin. view: the centroid of what the nominal sweep sees of the object, so that the
   // seen part moves by at most translation_mm whatever the rotation; with a CAD origin far from
   // the seen part (a plate's corner), rotating about the origin sweeps the part out of view.
+  // centre: the centre of the mesh's bounding box (a part turned in place whose CAD origin is,
+  // say, an end face).
   std::string pivot = "origin";
   // Degrees of freedom the view cannot fix, object frame: a nearly symmetric rotation (a needle's
   // spin about its shaft: only the eye breaks the symmetry) and a translation (a peg seen from
@@ -60,6 +62,10 @@ struct SceneCase {
   // ascending) and believed (scene_prior.json, if there is one). Read once, when the file loads.
   std::map<int, std::map<int, Pose>> truth, prior;
   bool has_prior = false;
+  // prior: none — every method registers with no prior, globally: a lab's first scan of a new
+  // part (issue: registration without a prior). Simulated scenes otherwise start from the nominal
+  // pose (or Conditions::prior_*); recorded ones from scene_prior.json, which this ignores.
+  bool use_prior = true;
   bool recorded() const { return !recorded_dir.empty(); }
   std::vector<Target> targets;
 };

@@ -54,7 +54,7 @@ PreparedScene prepare_scene(const Benchmark& b, int scene);
 struct TrialInput {
   PointCloud scan;                 // organized, base frame, labels = scene object
   std::vector<Pose> truth, prior;  // per target: T_scan_object (ground truth) and the prior
-  bool has_prior = true;           // false: a recorded scan without scene_prior.json
+  bool has_prior = true;           // false: prior: none, or no scene_prior.json
   uint64_t scan_seed = 0;
   size_t scan_points = 0;  // valid points
 };
