@@ -33,6 +33,38 @@ TriMesh boss_frustum() {
   return m;
 }
 
+// An n-gon prism of circumradius r between heights z0 and z1, without its top or bottom cap when
+// asked (a boss's face that lies on the body).
+TriMesh prism(float r, float z0, float z1, bool top = true, bool bottom = true, int n = 12) {
+  TriMesh m;
+  for (const float z : {z0, z1})
+    for (int i = 0; i < n; ++i)
+      m.vertices.emplace_back(r * std::cos(2 * M_PI * i / n), r * std::sin(2 * M_PI * i / n), z);
+  m.vertices.emplace_back(0.f, 0.f, z0), m.vertices.emplace_back(0.f, 0.f, z1);
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    if (bottom) m.faces.emplace_back(2 * n, j, i);
+    if (top) m.faces.emplace_back(2 * n + 1, n + i, n + j);
+    m.faces.emplace_back(i, j, n + j), m.faces.emplace_back(i, n + j, n + i);
+  }
+  return m;
+}
+
+// A twelve-sided disc (radius 10 mm, 5 mm thick) with a 1.5 mm boss on its top and the same
+// boss mirrored on its bottom, so that turned end over end about x it is the same but for a
+// 4 mm hub on its bottom's centre. Its eleven turns about z are more symmetric than that flip
+// (the bosses are smaller than the hub), and a view of its outer band (x > 6 mm) sees neither
+// the hub nor where the flip puts it: the flip is a twin that view cannot tell apart.
+TriMesh hub_disc() {
+  TriMesh m = prism(10, -2.5f, 2.5f);
+  TriMesh top = test::box_mesh({7, 0.5f, 2.5f}, {8.5f, 2, 3.25f});
+  top.faces.erase(top.faces.begin(), top.faces.begin() + 2);  // its bottom lies on the top
+  TriMesh bottom = test::box_mesh({7, -2, -3.25f}, {8.5f, -0.5f, -2.5f});
+  bottom.faces.erase(bottom.faces.begin() + 2, bottom.faces.begin() + 4);  // and its top
+  m.append(top), m.append(bottom), m.append(prism(4, -3.5f, -2.5f, false));
+  return m;
+}
+
 struct Views {
   PointCloud ref, with_boss, without_boss;  // scans in the scan frame
   Pose T_scan_ref;
@@ -143,4 +175,48 @@ TEST(Twins, ThePolicyInTheDriver) {
   off.policies.twins = false;
   const auto q = reg::register_cloud(v.without_boss, v.ref, off);
   EXPECT_EQ(q.timings_s.count("twins"), 0u);
+}
+
+TEST(Twins, AFlipIsProbedBesideManyTurnsAboutTheAxis) {
+  // The disc's turns about z outnumber max_twins and are each more symmetric than its flip; the
+  // screened twins are taken from each principal axis in turn, so the flip is refined too and the
+  // band view is ambiguous (ranked by symmetry alone, the flip was never tried and it stayed ok).
+  const TriMesh m = hub_disc();
+  sampling::SamplingSettings ss;
+  ss.count = 60000, ss.seed = 3;
+  const PointCloud ref = sampling::sample_uniform(m, ss);
+  sampling::ViewSettings view;
+  view.T_mesh_sensor.push_back(look_at(Eigen::Vector3d(40, 5, 90), Eigen::Vector3d(0, 0, 0)));
+  ss.count = 60000, ss.seed = 4;
+  const PointCloud seen = sampling::sample_visible(m, view, ss);
+  const Pose T_scan_ref = pose_from_tq(
+      {-12.5, 40.0, 31.0},
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(2, -1, 1).normalized())));
+  PointCloud band;
+  for (const auto& q : seen.points)
+    if (q.x() > 6) band.points.push_back((T_scan_ref * q.cast<double>()).cast<float>());
+  reg::RegistrationSettings s;
+  s.pre.use_viewpoint = true;
+  s.pre.viewpoint = T_scan_ref * view.T_mesh_sensor[0].translation();
+  reg::RegistrationResult r0;
+  const reg::Problem p = reg::prepare_problem(band, ref, s, r0);
+
+  // The premise: more turns about z than max_twins, each above the flip's self-overlap.
+  double flip = 0;
+  std::vector<double> turns;
+  for (const auto& tw : p.prepared->twins(p.voxel)) {
+    if (std::abs(tw.axis.z()) > 0.99) turns.push_back(tw.self_overlap);
+    if (std::abs(tw.axis.z()) < 0.01 && std::abs(tw.angle_deg - 180) < 1)
+      flip = std::max(flip, tw.self_overlap);
+  }
+  std::sort(turns.rbegin(), turns.rend());
+  ASSERT_GT(turns.size(), size_t(s.trust.max_twins));
+  ASSERT_GE(flip, s.trust.twin_self_overlap);
+  ASSERT_LT(flip, turns[size_t(s.trust.max_twins) - 1]);
+
+  reg::Candidate best{T_scan_ref, reg::evaluate(*p.scan, *p.ref_tree, T_scan_ref, p.matcher)};
+  auto r = ok_at(p, T_scan_ref);
+  reg::probe_twins(p, best, r);
+  EXPECT_EQ(r.status, reg::Status::Ambiguous) << r.reason;
+  EXPECT_NE(r.reason.find("turned 180"), std::string::npos) << r.reason;
 }

@@ -97,8 +97,33 @@ Pose self_aligned(const PclCloud& ref, const Tree& tree, const std::vector<Eigen
   return S;
 }
 
+bool known(const std::vector<Twin>& twins, const Pose& S) {  // within kDistinctDeg of one
+  for (const auto& t : twins)
+    if (Eigen::AngleAxisd(t.S.linear().transpose() * S.linear()).angle() <
+        kDistinctDeg * M_PI / 180)
+      return true;
+  return false;
+}
+
+// Adds S, aligned, when it lays enough of the part near itself (a box turned 30 deg does not:
+// not worth aligning) and is neither the identity nor a symmetry already known.
+void add_if_twin(const PclCloud& ref, const Tree& tree, const std::vector<Eigen::Vector3f>& few,
+                 const std::vector<Eigen::Vector3f>& pts, double voxel, Pose S,
+                 std::vector<Twin>& twins) {
+  if (Eigen::AngleAxisd(S.linear()).angle() < kDistinctDeg * M_PI / 180 || known(twins, S) ||
+      fraction_on(tree, few, S, 2 * kToleranceVox * voxel) < kNearFraction)
+    return;
+  S = self_aligned(ref, tree, few, S, 2 * kToleranceVox * voxel);
+  const Eigen::AngleAxisd turn(S.linear());
+  if (turn.angle() < kDistinctDeg * M_PI / 180 || known(twins, S)) return;  // slid back, or met
+  twins.push_back({S, fraction_on(tree, pts, S, voxel), turn.angle() * 180 / M_PI, turn.axis()});
+}
+
 }  // namespace
 
+// Turns about the principal axes, then their products: a disc with n-fold symmetry has n flips
+// end over end, and the principal axes in its plane (any two, the plane being isotropic) give
+// two of them; the others are a flip times a turn about the disc's axis.
 std::vector<Twin> reference_twins(const PclCloud& ref, const Tree& tree, double voxel,
                                   double max_turn_deg) {
   const auto pts = subsample(ref, kSamples), few = subsample(ref, kAlignSamples);
@@ -113,23 +138,22 @@ std::vector<Twin> reference_twins(const PclCloud& ref, const Tree& tree, double 
   for (int k = 0; k < 3; ++k)
     for (const double deg : twin_angles_deg()) {
       if (std::min(deg, 360 - deg) > max_turn_deg) continue;
-      const Eigen::AngleAxisd aa(deg * M_PI / 180, es.eigenvectors().col(k));
       Pose S = Pose::Identity();  // about the line through the centroid along the axis
-      S.linear() = aa.toRotationMatrix();
+      S.linear() = Eigen::AngleAxisd(deg * M_PI / 180, es.eigenvectors().col(k)).toRotationMatrix();
       S.translation() = c - S.linear() * c;
-      // A turn that lays little of the part near itself is no near-symmetry, aligned or not (a
-      // box turned 30 deg): not worth aligning.
-      if (fraction_on(tree, few, S, 2 * kToleranceVox * voxel) < kNearFraction) continue;
-      S = self_aligned(ref, tree, few, S, 2 * kToleranceVox * voxel);
-      const Eigen::AngleAxisd turn(S.linear());
-      if (turn.angle() < kDistinctDeg * M_PI / 180) continue;  // slid back onto itself
-      bool seen = false;  // several starts converge to one symmetry
-      for (const auto& t : twins)
-        seen = seen || Eigen::AngleAxisd(t.S.linear().transpose() * S.linear()).angle() <
-                           kDistinctDeg * M_PI / 180;
-      if (seen) continue;
-      twins.push_back(
-          {S, fraction_on(tree, pts, S, voxel), turn.angle() * 180 / M_PI, turn.axis()});
+      add_if_twin(ref, tree, few, pts, voxel, S, twins);
+    }
+  const size_t found = twins.size();
+  for (size_t i = 0; i < found; ++i)
+    for (size_t j = 0; j < found; ++j) {
+      // A half turn times a turn about another axis (turns about one axis compose to turns about
+      // it, which the angles above cover).
+      if (std::abs(twins[i].angle_deg - 180) > kDistinctDeg ||
+          std::abs(twins[i].axis.dot(twins[j].axis)) > std::cos(kDistinctDeg * M_PI / 180))
+        continue;
+      const Pose S = twins[i].S * twins[j].S;
+      if (Eigen::AngleAxisd(S.linear()).angle() <= max_turn_deg * M_PI / 180)
+        add_if_twin(ref, tree, few, pts, voxel, S, twins);
     }
   return twins;
 }
@@ -188,7 +212,9 @@ std::pair<double, double> evidence(const std::vector<double>& at_best,
 
 // The twins worth refining: near-symmetries of the part (twin_self_overlap), inside the rho_rot
 // cone of a prior orientation as RANSAC's poses must be, explaining nearly as much of a scan
-// subsample as the pose found (twin_screen); the max_twins most symmetric.
+// subsample as the pose found (twin_screen); the max_twins that explain most of it. Ranked by
+// their own symmetry instead, a toothed pulley's dozen turns about its axis crowd out its flip
+// end over end, which a top-down scan seeing only the teeth fits as well as the true pose.
 std::vector<const Twin*> screened(const Problem& p, const Pose& T_best, std::vector<Twin>& gated) {
   const TrustSettings& ts = p.s.trust;
   const auto seen = subsample(*p.scan, kSamples);
@@ -200,17 +226,19 @@ std::vector<const Twin*> screened(const Problem& p, const Pose& T_best, std::vec
     const double off = rotation_angle(Eigen::Quaterniond(T_best.rotation()), *p.s.q0) * 180 / M_PI;
     gated = reference_twins(*p.ref, *p.ref_tree, p.voxel, p.s.rho_rot_deg + off + 10);
   }
-  std::vector<const Twin*> out;
+  std::vector<std::pair<double, const Twin*>> fit;  // fraction of the subsample it explains
   for (const auto& tw : p.s.q0 ? gated : p.prepared->twins(p.voxel)) {
     const Pose T = T_best * tw.S;
     const double d_phi = p.s.q0 ? rotation_angle(Eigen::Quaterniond(T.rotation()), *p.s.q0) : 0;
-    if (tw.self_overlap >= ts.twin_self_overlap && d_phi * 180 / M_PI <= p.s.rho_rot_deg &&
-        fraction_on(*p.ref_tree, seen, T.inverse(), tol) >= ts.twin_screen * own)
-      out.push_back(&tw);
+    if (tw.self_overlap < ts.twin_self_overlap || d_phi * 180 / M_PI > p.s.rho_rot_deg) continue;
+    const double f = fraction_on(*p.ref_tree, seen, T.inverse(), tol);
+    if (f >= ts.twin_screen * own) fit.emplace_back(f, &tw);
   }
-  std::stable_sort(out.begin(), out.end(),
-                   [](const Twin* x, const Twin* y) { return x->self_overlap > y->self_overlap; });
-  if (out.size() > size_t(std::max(ts.max_twins, 0))) out.resize(size_t(std::max(ts.max_twins, 0)));
+  std::stable_sort(fit.begin(), fit.end(),
+                   [](const auto& x, const auto& y) { return x.first > y.first; });
+  std::vector<const Twin*> out;
+  for (const auto& [f, tw] : fit)
+    if (out.size() < size_t(std::max(ts.max_twins, 0))) out.push_back(tw);
   return out;
 }
 
