@@ -167,6 +167,21 @@ TEST(Bench, PriorNoneLeavesTheTrialWithoutAPrior) {
   EXPECT_EQ(in.prior.size(), in.truth.size());
 }
 
+TEST(Bench, AnOkIsPinnedToTheBenchmarksTolerance) {
+  // The trust's jackknife limits are the benchmark's tolerance (exact: copied); the default
+  // tolerance is the default trust, so the 50 um benchmarks register as before.
+  namespace reg = laserfit::registration;
+  bench::Benchmark b;
+  const bench::Target tg;
+  auto s = bench::method_settings(b, reg::Method::Ceres, tg, nullptr);
+  EXPECT_EQ(s.trust.max_sigma_mm, reg::TrustSettings{}.max_sigma_mm);
+  EXPECT_EQ(s.trust.max_sigma_deg, reg::TrustSettings{}.max_sigma_deg);
+  b.t_tol_mm = 0.005, b.r_tol_deg = 0.05;
+  s = bench::method_settings(b, reg::Method::Ceres, tg, nullptr);
+  EXPECT_EQ(s.trust.max_sigma_mm, 0.005);
+  EXPECT_EQ(s.trust.max_sigma_deg, 0.05);
+}
+
 TEST(Bench, UntunedThresholdsAreTheDefaultSettings) {
   // Thresholds are an overlay on RegistrationSettings: an untuned one changes no field (exact).
   namespace reg = laserfit::registration;
@@ -417,7 +432,7 @@ TEST(Bench, TheViewResampledAtThePoseFoundConfirmsATurnedSocket) {
   const size_t k = 1;
   const bench::Target& tg = b.scenes[scene].targets[k];
   ASSERT_EQ(tg.object, "usb_a_receptacle");
-  auto rs = bench::method_settings(registration::Method::Ceres, tg, nullptr);
+  auto rs = bench::method_settings(b, registration::Method::Ceres, tg, nullptr);
   rs.q0 = Eigen::Quaterniond(in.prior[k].rotation()), rs.prior = in.prior[k], rs.seed = t.seed;
   ASSERT_TRUE(in.scan.sensor_origin);
   rs.pre.use_viewpoint = true, rs.pre.viewpoint = *in.scan.sensor_origin;

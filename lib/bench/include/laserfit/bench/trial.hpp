@@ -70,8 +70,9 @@ TrialInput read_trial(const PreparedScene& p, const std::string& scan_pcd,
 
 // Registration settings of a named method (paper: PCL SampleConsensusPrerejective + rho_rot on
 // its result + PCL ICP, no prior pose; the others: rho_rot inside RANSAC, the prior as the first
-// hypothesis, the named refiner), with tuned thresholds on top when given.
-registration::RegistrationSettings method_settings(registration::Method method,
+// hypothesis, the named refiner), with tuned thresholds on top when given. An `ok` promises the
+// benchmark's tolerance: it is the trust's pinning limit (TrustSettings::max_sigma_mm, _deg).
+registration::RegistrationSettings method_settings(const Benchmark& b, registration::Method method,
                                                    const Target& target,
                                                    const registration::Thresholds* thresholds);
 
