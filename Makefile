@@ -245,7 +245,7 @@ bench-registration-speed: build
 	$(BIN)/bench_registration --benchmark_out=$(REG_OUT)/bench_registration.json --benchmark_out_format=json \
 	  --benchmark_counters_tabular=true | tee $(REG_OUT)/bench_registration.txt
 
-bench: bench-cad bench-scan bench-registration bench-suites
+bench: bench-cad bench-scan bench-registration bench-global bench-suites
 
 # Reproduce the paper's Tables I and II in the simulated cell (3 needle poses x 10 starts; USB
 # 10 starts), every strategy, with the tuned thresholds; outcomes and decision logs in $(RESULTS)/paper/.
