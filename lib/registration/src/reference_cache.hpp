@@ -11,7 +11,8 @@
 namespace laserfit::registration {
 
 // A rigid motion that lays the reference back onto itself, started as a rotation about one of its
-// principal axes (through its centroid) and aligned: a candidate near-symmetry (twins.cpp).
+// principal axes (through its centroid) or a product of two such, and aligned: a candidate
+// near-symmetry (twins.cpp).
 struct Twin {
   Pose S;                   // reference frame -> reference frame
   double self_overlap = 0;  // fraction of its points within 1 voxel of it after S

@@ -3,8 +3,8 @@
 // a gear motor round but for its flats) looks the same turned by its near-symmetry wherever the
 // scan misses what breaks it; RANSAC then finds either pose, and two attempts agreeing on the
 // wrong one confirm it. So each near-symmetry S of the reference (found once, when the reference
-// is prepared) is tried from the pose found, T * S: refined, a twin that fits the scan as well
-// and does not agree with T makes the pose ambiguous (reject_rivals).
+// is first needed) is tried from the pose found, T * S: refined, a twin that fits the scan as
+// well and does not agree with T makes the pose ambiguous.
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>

@@ -95,12 +95,13 @@ struct TrustSettings {
   // Twins (twins.cpp): motions that lay at least twin_self_overlap of the reference back onto
   // itself are its near-symmetries. An ok pose turned by one, when that explains at least
   // twin_screen of what the pose found explains of a scan subsample, is refined (the max_twins
-  // most symmetric). The scan tells the twin apart when the points on the reference at the pose
-  // found (within 3 robust sigmas) and off it at the twin's (beyond twin_off_mm, or unmatched)
-  // outnumber those the other way round by more than twin_evidence of the scan and more than
-  // the other way's own count (what sampling alone gives). Else -> ambiguous; the other way
-  // round, the twin replaces the pose. A 2 x 2 x 1 mm boss on a 20 mm frustum's view: 0.56 % one
-  // way, 0.21 % the other; a bearing housing's twin with its boss out of view: 1.8 % and 1.6 %.
+  // that explain most of it). The scan tells the twin apart when the points on the reference at
+  // the pose found (within 3 robust sigmas) and off it at the twin's (beyond twin_off_mm, or
+  // unmatched) outnumber those the other way round by more than twin_evidence of the scan and
+  // more than the other way's own count (what sampling alone gives). Else -> ambiguous; the
+  // other way round, the twin replaces the pose. A 2 x 2 x 1 mm boss on a 20 mm frustum's view:
+  // 0.56 % one way, 0.21 % the other; a bearing housing's twin with its boss out of view: 1.8 %
+  // and 1.6 %.
   double twin_self_overlap = 0.7;
   double twin_screen = 0.9;
   int max_twins = 8;
