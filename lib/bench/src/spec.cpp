@@ -54,8 +54,8 @@ Target read_target(const YamlReader& R, const YAML::Node& t, const std::string& 
                    const std::filesystem::path& dir) {
   R.only(t, where,
          {"object", "symmetry", "voxel_mm", "reference", "reference_mesh", "reference_points",
-          "expect", "weak_rotation", "weak_translation", "pivot", "resample_view", "obj_id",
-          "reference_cloud", "model", "label"});
+          "expect", "weak_rotation", "weak_translation", "pivot", "turn_about", "resample_view",
+          "obj_id", "reference_cloud", "model", "label"});
   Target tg;
   R.need(t, "object", where);
   tg.object = R.str(t, "object", "", where);
@@ -89,6 +89,12 @@ Target read_target(const YamlReader& R, const YAML::Node& t, const std::string& 
   tg.pivot = R.str(t, "pivot", "origin", where);
   if (tg.pivot != "origin" && tg.pivot != "view" && tg.pivot != "centre")
     R.fail(where + ".pivot", "must be origin, view or centre");
+  if (t["turn_about"]) {
+    const std::string a = R.str(t, "turn_about", "", where);
+    if (a != "x" && a != "y" && a != "z")
+      R.fail(where + ".turn_about", "must be x, y or z (the scene's frame)");
+    tg.turn_about = registration::named_axis(a);
+  }
   for (const char* key : {"weak_rotation", "weak_translation"}) {
     if (!t[key]) continue;
     const std::string a = R.str(t, key, "", where);

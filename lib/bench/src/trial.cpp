@@ -98,10 +98,13 @@ Shard parse_shard(const std::string& text) {
 namespace {
 
 // `nominal` rotated by up to `deg` about a uniform random axis through `pivot` (object frame) and
-// moved up to `mm` (uniform in a ball); angle uniform in [0, deg]. The pivot's point of the
-// object ends within `mm` of its nominal place.
+// moved up to `mm` (uniform in a ball); angle uniform in [0, deg]. About `fixed` (the scene's
+// frame) instead when given, by an angle uniform in [-deg, deg]; the random axis is drawn all the
+// same, so the translations are those of the uniform draws. The pivot's point of the object ends
+// within `mm` of its nominal place.
 Pose perturbed(const Pose& nominal, double deg, double mm, std::mt19937_64& g,
-               const Eigen::Vector3d& pivot = Eigen::Vector3d::Zero()) {
+               const Eigen::Vector3d& pivot = Eigen::Vector3d::Zero(),
+               const std::optional<Eigen::Vector3d>& fixed = std::nullopt) {
   auto unit_ball = [&] {
     Eigen::Vector3d v;
     do {  // z, y, x: GCC's argument order, as recorded; sequenced for any compiler
@@ -109,8 +112,10 @@ Pose perturbed(const Pose& nominal, double deg, double mm, std::mt19937_64& g,
     } while (v.squaredNorm() > 1 || v.squaredNorm() < 1e-6);
     return v;
   };
-  const Eigen::Vector3d axis = unit_ball().normalized();
-  const double angle = uniform01(g) * std::max(0.0, deg) * M_PI / 180;
+  const Eigen::Vector3d drawn = unit_ball().normalized();
+  const double u = uniform01(g);
+  const Eigen::Vector3d axis = fixed ? (nominal.rotation().transpose() * *fixed).eval() : drawn;
+  const double angle = (fixed ? 2 * u - 1 : u) * std::max(0.0, deg) * M_PI / 180;
   const Eigen::Vector3d t = unit_ball() * std::max(0.0, mm);
   Pose T = nominal;
   T.linear() = nominal.rotation() * Eigen::AngleAxisd(angle, axis).toRotationMatrix();
@@ -187,7 +192,8 @@ TrialInput simulate_trial(const Benchmark& b, const PreparedScene& p, const Tria
   for (size_t k = 0; k < p.object.size(); ++k) {
     Pose& T = s.objects[p.object[k]].T_base_object;
     nominal.push_back(T);
-    T = perturbed(T, c.rotation_deg, c.translation_mm, g, p.pivot[k]);
+    T = perturbed(T, c.rotation_deg, c.translation_mm, g, p.pivot[k],
+                  b.scenes[t.scene].targets[k].turn_about);
   }
   const scan::ScanResult r = scan::simulate_scan(s);
   TrialInput in;

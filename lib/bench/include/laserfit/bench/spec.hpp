@@ -35,6 +35,10 @@ struct Target {
   // centre: the centre of the mesh's bounding box (a part turned in place whose CAD origin is,
   // say, an end face).
   std::string pivot = "origin";
+  // turn_about (x|y|z, the scene's frame): the true pose turns about that axis through the pivot
+  // by up to rotation_deg either way, not about a uniform random axis: a part resting on a table
+  // lies anywhere turned about the vertical, and is never upside down.
+  std::optional<Eigen::Vector3d> turn_about;
   // Degrees of freedom the view cannot fix, object frame: a nearly symmetric rotation (a needle's
   // spin about its shaft: only the eye breaks the symmetry) and a translation (a peg seen from
   // the side: its tip faces away). An `ambiguous` result that names one of them as unobservable
