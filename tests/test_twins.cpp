@@ -178,9 +178,11 @@ TEST(Twins, ThePolicyInTheDriver) {
 }
 
 TEST(Twins, AFlipIsProbedBesideManyTurnsAboutTheAxis) {
-  // The disc's turns about z outnumber max_twins and are each more symmetric than its flip; the
-  // screened twins are taken from each principal axis in turn, so the flip is refined too and the
-  // band view is ambiguous (ranked by symmetry alone, the flip was never tried and it stayed ok).
+  // The disc's turns about z outnumber max_twins and are each more symmetric than its flip about
+  // x, which the principal axes need not give (its plane is isotropic). The flip comes from a
+  // half turn times a turn about z, and explains the band as well as the pose does, so it is
+  // refined and the view is ambiguous. Ranked by their own symmetry, or without the products,
+  // the flip was never tried and the pose stayed ok.
   const TriMesh m = hub_disc();
   sampling::SamplingSettings ss;
   ss.count = 60000, ss.seed = 3;
