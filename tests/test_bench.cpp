@@ -23,6 +23,17 @@ namespace fs = std::filesystem;
 
 namespace {
 using test::kSource, test::tiny_benchmark, test::without_timing, test::quiet_run;
+
+// The first target of trial i in dataset `out`: its ground-truth entry, true pose and prior.
+struct GtTarget {
+  io::Json json;
+  Pose truth, prior;
+};
+GtTarget gt_target(const std::string& out, int i) {
+  const std::string gt = out + "/gt/" + std::to_string(i) + ".json";
+  const auto t = io::read_json(gt).at("targets").at(0);
+  return {t, io::pose_from_json(t.at("T_scan_object"), gt), io::pose_from_json(t.at("prior"), gt)};
+}
 }  // namespace
 
 TEST(Bench, EveryShippedBenchmarkLoads) {
@@ -126,10 +137,7 @@ TEST(Bench, PerturbationsTurnAboutTheChosenPivot) {
     bench::generate_dataset(b, out, 2, {}, {"usb"});
     double origin_moved = 0, rotated = 0;
     for (int i = 0; i < 4; ++i) {
-      const std::string gt = out + "/gt/" + std::to_string(i) + ".json";
-      const auto t = io::read_json(gt).at("targets").at(0);
-      const Pose truth = io::pose_from_json(t.at("T_scan_object"), gt),
-                 nominal = io::pose_from_json(t.at("prior"), gt);
+      const auto [t, truth, nominal] = gt_target(out, i);
       const auto pv = t.at("pivot_mm").get<std::vector<double>>();
       const Eigen::Vector3d c(pv[0], pv[1], pv[2]);
       EXPECT_EQ(c.isZero(), pivot == "origin") << c.transpose();
@@ -161,10 +169,7 @@ TEST(Bench, TurnAboutKeepsTheTurnOnOneAxis) {
   bench::generate_dataset(b, out, 2, {}, {"usb"});
   double most = 0, least = 0;  // signed turn about +z (deg)
   for (int i = 0; i < 6; ++i) {
-    const std::string gt = out + "/gt/" + std::to_string(i) + ".json";
-    const auto t = io::read_json(gt).at("targets").at(0);
-    const Pose truth = io::pose_from_json(t.at("T_scan_object"), gt),
-               nominal = io::pose_from_json(t.at("prior"), gt);
+    const auto [t, truth, nominal] = gt_target(out, i);
     const Eigen::Matrix3d M = truth.rotation() * nominal.rotation().transpose();
     const double rad = std::atan2(M(1, 0), M(0, 0));  // the turn about z that M is
     const Eigen::Matrix3d Rz = Eigen::AngleAxisd(rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();

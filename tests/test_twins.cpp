@@ -122,7 +122,7 @@ TEST(Twins, TheReferenceNamesItsNearSymmetries) {
   reg::RegistrationResult r0;
   const reg::Problem p = reg::prepare_problem(v.without_boss, v.ref, v.s, r0);
   int quarter_turns = 0;
-  for (const auto& tw : p.prepared->twins(p.voxel)) {
+  for (const auto& tw : p.prepared->twins()) {
     if (tw.self_overlap < 0.9) continue;
     EXPECT_GT(std::abs(tw.axis.z()), std::cos(0.5 * M_PI / 180)) << tw.axis.transpose();
     const double k = tw.angle_deg / 90;
@@ -206,7 +206,7 @@ TEST(Twins, AFlipIsProbedBesideManyTurnsAboutTheAxis) {
   // The premise: more turns about z than max_twins, each above the flip's self-overlap.
   double flip = 0;
   std::vector<double> turns;
-  for (const auto& tw : p.prepared->twins(p.voxel)) {
+  for (const auto& tw : p.prepared->twins()) {
     if (std::abs(tw.axis.z()) > 0.99) turns.push_back(tw.self_overlap);
     if (std::abs(tw.axis.z()) < 0.01 && std::abs(tw.angle_deg - 180) < 1)
       flip = std::max(flip, tw.self_overlap);

@@ -40,6 +40,7 @@ std::shared_ptr<const PreparedReference> prepare(const PointCloud& in,
                                                  const RegistrationSettings& s, double voxel,
                                                  bool with_features) {
   auto out = std::make_shared<PreparedReference>();
+  out->voxel = voxel;
   PreprocessSettings pre = s.pre;
   pre.use_viewpoint = false, pre.outlier_std = 0;  // CAD samples have no outliers
   // The dense CAD samples keep their exact normals for refinement and assessment; without
@@ -84,7 +85,7 @@ std::shared_ptr<const PreparedReference> prepared_reference(const PointCloud& re
   return prepared;
 }
 
-const std::vector<Twin>& PreparedReference::twins(double voxel) const {
+const std::vector<Twin>& PreparedReference::twins() const {
   std::call_once(twins_once_, [&] { twins_ = reference_twins(*ref, *tree, voxel); });
   return twins_;
 }

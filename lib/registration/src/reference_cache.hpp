@@ -25,8 +25,9 @@ struct PreparedReference {
   Tree::Ptr tree;          // over ref
   PclCloud::Ptr coarse;    // the RANSAC stage's grid (null when not asked for)
   Features::Ptr features;  // its FPFH
-  // Its near-symmetries at `voxel` (twins.cpp), found on first use: only an ok pose needs them.
-  const std::vector<Twin>& twins(double voxel) const;
+  double voxel = 0;        // mm, what it was prepared at (part of the cache key)
+  // Its near-symmetries (twins.cpp), found on first use: only an ok pose needs them.
+  const std::vector<Twin>& twins() const;
 
  private:
   mutable std::once_flag twins_once_;

@@ -111,6 +111,8 @@ PlaneSystem plane_system(const PclCloud& scan, const Tree& ref_tree, const Pose&
 // 1.4826 x the median absolute point-to-plane residual: the residuals' spread as noise alone
 // would give it, blind to a minority of misfits (mm).
 double robust_sigma(const std::vector<Match>& matches);
+// The same of absolute residuals (reordered; not empty).
+double robust_sigma_of(std::vector<double>& abs_residuals);
 void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const TrustSettings& t,
             double voxel, RegistrationResult& r);
 // An `ok` whose jackknife sigma (set by assess) is above the trust limits -> ambiguous, not

@@ -75,7 +75,11 @@ double robust_sigma(const std::vector<Match>& M) {
   if (M.empty()) return std::numeric_limits<double>::infinity();
   std::vector<double> a(M.size());
   for (size_t i = 0; i < M.size(); ++i) a[i] = std::abs(M[i].n.dot(M[i].q - M[i].p));
-  auto mid = a.begin() + a.size() / 2;
+  return robust_sigma_of(a);
+}
+
+double robust_sigma_of(std::vector<double>& a) {
+  auto mid = a.begin() + long(a.size() / 2);
   std::nth_element(a.begin(), mid, a.end());
   return 1.4826 * *mid;  // the median absolute residual of a normal distribution is 0.6745 sigma
 }

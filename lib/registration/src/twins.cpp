@@ -179,13 +179,11 @@ std::vector<double> residuals(const Problem& p, const Pose& T) {
   return r;
 }
 
-double robust_sigma(const std::vector<double>& r) {  // 1.4826 x median |residual| (mm)
+double finite_sigma(const std::vector<double>& r) {  // robust_sigma of the matched points (mm)
   std::vector<double> a;
   for (const double x : r)
     if (std::isfinite(x)) a.push_back(std::abs(x));
-  if (a.empty()) return 0;
-  std::nth_element(a.begin(), a.begin() + long(a.size() / 2), a.end());
-  return 1.4826 * a[a.size() / 2];
+  return a.empty() ? 0 : robust_sigma_of(a);
 }
 
 // The fraction of the scan on the reference at pose a (within on_mm) and off it at pose b
@@ -206,7 +204,7 @@ double on_a_off_b(const std::vector<double>& a, const std::vector<double>& b, do
 std::pair<double, double> evidence(const std::vector<double>& at_best,
                                    const std::vector<double>& at_twin, double floor_mm,
                                    double off_mm) {
-  const double on = std::max(3 * std::max(robust_sigma(at_best), robust_sigma(at_twin)), floor_mm);
+  const double on = std::max(3 * std::max(finite_sigma(at_best), finite_sigma(at_twin)), floor_mm);
   return {on_a_off_b(at_best, at_twin, on, off_mm), on_a_off_b(at_twin, at_best, on, off_mm)};
 }
 
@@ -227,7 +225,7 @@ std::vector<const Twin*> screened(const Problem& p, const Pose& T_best, std::vec
     gated = reference_twins(*p.ref, *p.ref_tree, p.voxel, p.s.rho_rot_deg + off + 10);
   }
   std::vector<std::pair<double, const Twin*>> fit;  // fraction of the subsample it explains
-  for (const auto& tw : p.s.q0 ? gated : p.prepared->twins(p.voxel)) {
+  for (const auto& tw : p.s.q0 ? gated : p.prepared->twins()) {
     const Pose T = T_best * tw.S;
     const double d_phi = p.s.q0 ? rotation_angle(Eigen::Quaterniond(T.rotation()), *p.s.q0) : 0;
     if (tw.self_overlap < ts.twin_self_overlap || d_phi * 180 / M_PI > p.s.rho_rot_deg) continue;
