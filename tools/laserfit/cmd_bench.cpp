@@ -45,13 +45,13 @@ int run_list(const Options& o, const bench::Benchmark& b) {
   int mine = 0;
   for (const auto& t : bench::select_trials(b, {}, split(o.scenes)))
     if (shard.contains(t)) ++mine, ++per_scene[b.scenes[t.scene].name];
-  io::Json j = {{"benchmark", b.name},    {"seed", b.seed},
-                {"mode", b.mode},         {"trials_total", trials.size()},
-                {"shard", shard.text()},  {"trials", mine},
-                {"per_scene", per_scene}, {"methods", io::Json::array()}};
+  io::Json j = {{"benchmark", b.name},     {"seed", b.seed},
+                {"mode", name_of(b.mode)}, {"trials_total", trials.size()},
+                {"shard", shard.text()},   {"trials", mine},
+                {"per_scene", per_scene},  {"methods", io::Json::array()}};
   for (const auto m : b.methods) j["methods"].push_back(name_of(m));
   std::ostringstream h;
-  h << b.name << " (seed " << b.seed << ", " << b.mode << "): " << trials.size()
+  h << b.name << " (seed " << b.seed << ", " << name_of(b.mode) << "): " << trials.size()
     << " trials in all, " << mine << " in shard " << shard.text() << " (";
   for (const auto& [n, c] : per_scene)
     h << n << " " << c << (n == per_scene.rbegin()->first ? "" : ", ");

@@ -160,7 +160,7 @@ AtTruth at_truth(const Benchmark& b, const PreparedScene& p, const Trial& t, con
   AtTruth a;
   try {
     // Bench scans are in the base frame, so T_scan_object is the T_base_object to view it at.
-    const PointCloud ref = tg.reference == "view"
+    const PointCloud ref = tg.reference == ReferenceSource::View
                                ? scan::view_reference(p.reference_mesh[k], in.truth[k],
                                                       p.scene.settings, tg.reference_points, b.seed)
                                : p.reference[k];

@@ -111,7 +111,7 @@ PreparedScene prepare_recorded(const SceneCase& sc, uint64_t seed) {
   for (const auto& t : sc.targets) {
     const TriMesh mesh =
         t.reference_mesh.empty() ? TriMesh{} : read_mesh(t.reference_mesh, sc.unit);
-    if (t.reference == "cloud") {
+    if (t.reference == ReferenceSource::Cloud) {
       p.reference.push_back(io::read_cloud(t.reference_cloud, sc.unit));
     } else {  // full: sampled from the mesh as a simulated scene's would be
       sampling::SamplingSettings ss;

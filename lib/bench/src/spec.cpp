@@ -37,6 +37,23 @@ namespace {
 
 using io::YamlReader;
 
+// The value of an enum named under `key` (`def` when absent); another name fails at `at` (the
+// key's path) with the names it may take: "must be a, b or c".
+template <class E>
+E choice(const YamlReader& R, const YAML::Node& n, const std::string& key, E def,
+         const std::string& where, const std::string& at) {
+  if (!n[key]) return def;
+  const std::string text = R.str(n, key, "", where);
+  std::string all;
+  const size_t count = std::size(EnumNames<E>::table);
+  for (size_t i = 0; i < count; ++i) {
+    const auto& [value, name] = EnumNames<E>::table[i];
+    if (text == name) return value;
+    all += (i == 0 ? "" : i + 1 == count ? " or " : ", ") + std::string(name);
+  }
+  R.fail(at, "must be " + all);
+}
+
 // Physically meaningful ranges of each axis (an impossible config is an error, not a NaN later).
 void check_axis(const YamlReader& R, const std::string& name, double v) {
   const std::string where = "conditions." + name;
@@ -67,28 +84,26 @@ Target read_target(const YamlReader& R, const YAML::Node& t, const std::string& 
   tg.voxel_mm = R.num(t, "voxel_mm", 0, where);
   if (tg.voxel_mm < 0 || tg.voxel_mm > 10)
     R.fail(where + ".voxel_mm", "must be in 0..10 mm (0 = auto)");
-  tg.reference = R.str(t, "reference", t["reference_cloud"] ? "cloud" : "view", where);
-  if (tg.reference != "view" && tg.reference != "full" && tg.reference != "cloud")
-    R.fail(where + ".reference", "must be view, full or cloud");
+  tg.reference = choice(R, t, "reference",
+                        t["reference_cloud"] ? ReferenceSource::Cloud : ReferenceSource::View,
+                        where, where + ".reference");
   auto path = [&](const char* key) {
     return t[key] ? (dir / R.str(t, key, "", where)).lexically_normal().string() : std::string();
   };
   tg.reference_mesh = path("reference_mesh");
   tg.reference_cloud = path("reference_cloud"), tg.model = path("model");
-  if ((tg.reference == "cloud") != !tg.reference_cloud.empty())
+  if ((tg.reference == ReferenceSource::Cloud) != !tg.reference_cloud.empty())
     R.fail(where + ".reference_cloud", "is the file of reference: cloud (and only of it)");
   if (t["obj_id"]) tg.obj_id = int(R.integer(t, "obj_id", 0, where, 0, 1000000000));
   if (t["label"]) tg.label = int(R.integer(t, "label", 0, where, 0, 1000000));
   tg.reference_points = size_t(R.integer(t, "reference_points", 60000, where, 100, 10000000));
   tg.resample_view = R.flag(t, "resample_view", false, where);
-  if (tg.resample_view && tg.reference != "view")
+  if (tg.resample_view && tg.reference != ReferenceSource::View)
     R.fail(where + ".resample_view", "needs reference: view");
   const std::string expect = R.str(t, "expect", "pose", where);
   if (expect != "pose" && expect != "failure") R.fail(where + ".expect", "must be pose or failure");
   tg.expect_failure = expect == "failure";
-  tg.pivot = R.str(t, "pivot", "origin", where);
-  if (tg.pivot != "origin" && tg.pivot != "view" && tg.pivot != "centre")
-    R.fail(where + ".pivot", "must be origin, view or centre");
+  tg.pivot = choice(R, t, "pivot", Pivot::Origin, where, where + ".pivot");
   if (t["turn_about"]) {
     const std::string a = R.str(t, "turn_about", "", where);
     if (a != "x" && a != "y" && a != "z")
@@ -111,16 +126,16 @@ Target read_target(const YamlReader& R, const YAML::Node& t, const std::string& 
 void check_target_source(const YamlReader& R, const SceneCase& sc, const Target& t,
                          const std::string& where) {
   if (!sc.recorded()) {
-    if (t.obj_id >= 0 || t.label >= 0 || !t.model.empty() || t.reference == "cloud")
+    if (t.obj_id >= 0 || t.label >= 0 || !t.model.empty() || t.reference == ReferenceSource::Cloud)
       R.fail(where, "obj_id, label, model and reference: cloud belong to recorded scenes");
     return;
   }
   if (t.obj_id < 0) R.fail(where + ".obj_id", "a recorded scene's target needs its BOP obj_id");
-  if (t.reference == "view" || t.resample_view || t.pivot != "origin")
+  if (t.reference == ReferenceSource::View || t.resample_view || t.pivot != Pivot::Origin)
     R.fail(where + ".reference",
            "a recorded scene has no scanner model to view the part with: give reference_cloud, "
            "or reference: full with reference_mesh (and no resample_view or pivot)");
-  if (t.reference == "full" && t.reference_mesh.empty())
+  if (t.reference == ReferenceSource::Full && t.reference_mesh.empty())
     R.fail(where + ".reference_mesh", "reference: full in a recorded scene samples this mesh");
 }
 
@@ -178,8 +193,7 @@ static Benchmark load_benchmark_unguarded(const std::string& path) {
     R.fail("name", "must be a non-empty word (it names datasets/<name>/)");
   b.seed = R.seed(root, "seed", 1, "benchmark");
   b.trials = int(R.integer(root, "trials", 10, "benchmark", 1, 1000000));
-  b.mode = R.str(root, "mode", "grid", "benchmark");
-  if (b.mode != "grid" && b.mode != "random") R.fail("mode", "must be grid or random");
+  b.mode = choice(R, root, "mode", Sampling::Grid, "benchmark", "mode");
   if (const auto c = root["conditions"]) {
     std::set<std::string> names(axis_names().begin(), axis_names().end());
     R.only(c, "conditions", names);
@@ -189,9 +203,9 @@ static Benchmark load_benchmark_unguarded(const std::string& path) {
                                   ? R.list(kv.second, "conditions." + k)
                                   : std::vector<double>{R.num(c, k, 0, "conditions")};
       if (v.empty()) R.fail("conditions." + k, "needs at least one value");
-      if (b.mode == "random" && v.size() != 2 && v.size() != 1)
+      if (b.mode == Sampling::Random && v.size() != 2 && v.size() != 1)
         R.fail("conditions." + k, "random mode: a value or a [min, max] range");
-      if (b.mode == "random" && v.size() == 2 && v[0] > v[1])
+      if (b.mode == Sampling::Random && v.size() == 2 && v[0] > v[1])
         R.fail("conditions." + k, "min above max");
       for (double x : v) check_axis(R, k, x);
       b.axes[k] = v;

@@ -37,7 +37,7 @@ void append_recorded(const Benchmark& b, int scene, std::vector<Trial>& trials) 
 std::vector<Trial> enumerate_trials(const Benchmark& b) {
   // Grid cells: the cartesian product of the axes' values, in axis_names() order.
   std::vector<Conditions> cells(1);
-  if (b.mode == "grid")
+  if (b.mode == Sampling::Grid)
     for (const auto& name : axis_names()) {
       const auto it = b.axes.find(name);
       if (it == b.axes.end()) continue;
@@ -62,7 +62,7 @@ std::vector<Trial> enumerate_trials(const Benchmark& b) {
         t.index = int(trials.size()), t.scene = int(s), t.cell = int(c), t.repetition = r;
         t.seed = trial_seed(b.seed, uint64_t(t.index));
         t.conditions = cells[c];
-        if (b.mode == "random") {
+        if (b.mode == Sampling::Random) {
           std::mt19937_64 g = block_rng(b.seed, 2000 + s, uint64_t(r));
           for (const auto& [name, range] : b.axes)
             axis(t.conditions, name) =
@@ -139,7 +139,7 @@ PreparedScene prepare_scene(const Benchmark& b, int scene) {
     const auto& o = p.scene.objects[idx];
     // A wrong-object trial registers another part's CAD where this object is.
     const TriMesh mesh = t.reference_mesh.empty() ? o.mesh : cad::import_cad(t.reference_mesh).mesh;
-    if (t.reference == "full") {
+    if (t.reference == ReferenceSource::Full) {
       sampling::SamplingSettings ss;
       ss.count = t.reference_points;
       ss.seed = b.seed;
@@ -152,16 +152,16 @@ PreparedScene prepare_scene(const Benchmark& b, int scene) {
     p.object.push_back(idx);
     p.model.push_back(o.mesh.vertices);
     Eigen::Vector3d pivot = Eigen::Vector3d::Zero();
-    if (t.pivot == "view") {  // the seen part of the object's own mesh, whatever the reference
+    if (t.pivot == Pivot::View) {  // the seen part of the object's own mesh, whatever the reference
       const PointCloud seen =
-          t.reference == "view" && t.reference_mesh.empty()
+          t.reference == ReferenceSource::View && t.reference_mesh.empty()
               ? p.reference.back()
               : scan::view_reference(o.mesh, o.T_base_object, p.scene.settings, 20000, b.seed);
       if (seen.points.empty())
         throw Error(b.file, "pivot: view: the nominal sweep sees nothing of '" + t.object + "'");
       for (const auto& q : seen.points) pivot += q.cast<double>();
       pivot /= double(seen.points.size());
-    } else if (t.pivot == "centre") {  // of the mesh's bounding box: a part turned in place
+    } else if (t.pivot == Pivot::Centre) {  // of the mesh's bounding box: a part turned in place
       pivot = o.mesh.bbox().center().cast<double>();
     }
     p.pivot.push_back(pivot);
@@ -226,7 +226,7 @@ io::Json input_json(const Benchmark& b, const PreparedScene& p, const Trial& t,
                        {"label", p.object[k]},  // scan label of its points
                        {"reference", "refs/" + sc.name + "_" + sc.targets[k].object + ".pcd"},
                        {"symmetry", sc.targets[k].symmetry.describe()},
-                       {"pivot", sc.targets[k].pivot},
+                       {"pivot", name_of(sc.targets[k].pivot)},
                        {"pivot_mm", {p.pivot[k].x(), p.pivot[k].y(), p.pivot[k].z()}},
                        {"voxel_mm", sc.targets[k].voxel_mm},
                        {"expect", sc.targets[k].expect_failure ? "failure" : "pose"},

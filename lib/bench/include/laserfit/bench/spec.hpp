@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "laserfit/core/enum_names.hpp"
 #include "laserfit/core/pose.hpp"
 #include "laserfit/core/units.hpp"
 #include "laserfit/metrics/pose_error.hpp"
@@ -16,12 +17,20 @@
 
 namespace laserfit::bench {
 
+// Where a target's reference comes from: what the nominal sweep sees of its mesh, its whole
+// surface (or reference_mesh's), or a file (recorded scenes).
+enum class ReferenceSource { View, Full, Cloud };
+// The point a target's true pose turns about (Target::pivot).
+enum class Pivot { Origin, View, Centre };
+// How trials are drawn: every combination of the axes' values, or random draws in their ranges.
+enum class Sampling { Grid, Random };
+
 struct Target {
   std::string object;  // the scene object whose pose is estimated
   metrics::Symmetry symmetry;
   double voxel_mm = 0;  // registration voxel; 0 = auto
   // view: what the nominal sweep sees | full: whole surface | cloud: a file (recorded scenes)
-  std::string reference = "view";
+  ReferenceSource reference = ReferenceSource::View;
   std::string reference_mesh;  // another CAD file as the reference (a wrong-object trial)
   size_t reference_points = 60000;
   // view only: after a first pass, register again against the view sampled at the pose found
@@ -34,7 +43,7 @@ struct Target {
   // the seen part (a plate's corner), rotating about the origin sweeps the part out of view.
   // centre: the centre of the mesh's bounding box (a part turned in place whose CAD origin is,
   // say, an end face).
-  std::string pivot = "origin";
+  Pivot pivot = Pivot::Origin;
   // turn_about (x|y|z, the scene's frame): the true pose turns about that axis through the pivot
   // by up to rotation_deg either way, not about a uniform random axis: a part resting on a table
   // lies anywhere turned about the vertical, and is never upside down.
@@ -95,7 +104,7 @@ struct Benchmark {
   std::string name, file;
   uint64_t seed = 1;
   int trials = 10;  // per grid cell (grid) or in total per scene (random); recorded: one per scan
-  std::string mode = "grid";  // grid: every combination of the axes' values; random: draws
+  Sampling mode = Sampling::Grid;
   std::map<std::string, std::vector<double>> axes;  // grid: values; random: [min, max]
   double t_tol_mm = 0.05, r_tol_deg = 0.5;          // success tolerance
   std::vector<registration::Method> methods = {registration::Method::Ceres};  // `laserfit bench`'s
@@ -110,3 +119,28 @@ Benchmark load_benchmark(const std::string& path);  // throws laserfit::Error na
 std::vector<int> scene_indices(const Benchmark& b, const std::vector<std::string>& names);
 
 }  // namespace laserfit::bench
+
+namespace laserfit {
+template <>
+struct EnumNames<bench::ReferenceSource> {
+  static constexpr const char* what = "reference";
+  static constexpr std::pair<bench::ReferenceSource, const char*> table[] = {
+      {bench::ReferenceSource::View, "view"},
+      {bench::ReferenceSource::Full, "full"},
+      {bench::ReferenceSource::Cloud, "cloud"}};
+};
+template <>
+struct EnumNames<bench::Pivot> {
+  static constexpr const char* what = "pivot";
+  static constexpr std::pair<bench::Pivot, const char*> table[] = {
+      {bench::Pivot::Origin, "origin"},
+      {bench::Pivot::View, "view"},
+      {bench::Pivot::Centre, "centre"}};
+};
+template <>
+struct EnumNames<bench::Sampling> {
+  static constexpr const char* what = "mode";
+  static constexpr std::pair<bench::Sampling, const char*> table[] = {
+      {bench::Sampling::Grid, "grid"}, {bench::Sampling::Random, "random"}};
+};
+}  // namespace laserfit
