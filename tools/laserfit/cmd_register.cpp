@@ -89,6 +89,10 @@ io::Json result_json(const std::string& ref, const registration::RegistrationRes
           {"sigma_rotation_deg", r.sigma_rotation_deg},
           {"hessian_eigenvalues",
            std::vector<double>(r.hessian_eigenvalues.data(), r.hessian_eigenvalues.data() + 6)},
+          {"weakest_direction",  // [rotation x the radius below; translation], scan frame
+           std::vector<double>(r.weakest_direction.data(), r.weakest_direction.data() + 6)},
+          {"hessian_centre_mm", {r.hessian_centre.x(), r.hessian_centre.y(), r.hessian_centre.z()}},
+          {"hessian_radius_mm", r.hessian_radius_mm},
           {"timings_s", r.timings_s},
           {"log", r.log}};
 }

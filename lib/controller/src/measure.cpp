@@ -47,6 +47,20 @@ registration::RegistrationResult register_one(const PointCloud& scan, const Poin
 
 }  // namespace
 
+std::optional<Pose> turn_from_tracked(const registration::RegistrationResult& r,
+                                      const Pose& tracked, const ControllerSettings& s) {
+  const registration::Vector6d& d = r.weakest_direction;
+  if (r.status != registration::Status::Ambiguous || r.not_pinned || r.unobservable != 1 ||
+      d.head<3>().norm() <= d.tail<3>().norm())
+    return std::nullopt;
+  const Pose T = registration::along_weakest_to(r, tracked);
+  const Pose D = tracked.inverse() * T;
+  if (D.translation().norm() > s.tracked_target_mm ||
+      Eigen::AngleAxisd(D.linear()).angle() > s.tracked_target_deg * M_PI / 180)
+    return std::nullopt;
+  return T;
+}
+
 // T with its rotation about its own axis `e` (object frame) replaced by the prior's: the
 // registration left that spin unobservable (the needle about its shaft), so its value is
 // arbitrary, and every pose derived from the target (the insertion axis, the part's prior, a
@@ -70,7 +84,14 @@ Measurement measure(const PointCloud& scan, const PointCloud& target_ref,
   const std::string &tw_rot = cs.target_weak_rotation, &tw_trans = cs.target_weak_translation;
   auto check_target = [&] {
     m.T_scan_target = m.target.T_scan_ref;
-    if (!acceptable(m.target, tw_rot, tw_trans, m.T_scan_target, &why)) return false;
+    if (!acceptable(m.target, tw_rot, tw_trans, m.T_scan_target, &why)) {
+      const auto T =
+          tracked_target ? turn_from_tracked(m.target, *tracked_target, s) : std::nullopt;
+      if (!T) return false;
+      m.T_scan_target = *T, m.target_turn_tracked = true;
+      log.push_back("  " + tname + " " + why + ": that turn is its last trusted measurement's");
+      return true;
+    }
     const std::string& w = cs.target_weak_rotation;
     if (m.target.status == registration::Status::Ambiguous && !w.empty()) {
       const Eigen::Vector3d e = *registration::named_axis(w);

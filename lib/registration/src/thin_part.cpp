@@ -310,6 +310,7 @@ void thin_pose(const Candidate& c, const Eigen::Matrix3d& R0, const ThinProfile&
   r.status = Status::Ambiguous;
   r.unobservable = 1;
   r.weakest_direction << c.fit.axis, Eigen::Vector3d::Zero();
+  r.hessian_centre = c.tip, r.hessian_radius_mm = 1;  // the spin about the axis through the tip
   r.fitness_mm2 = c.fit.rmse_mm * c.fit.rmse_mm, r.inlier_rmse_mm = c.fit.rmse_mm;
   r.overlap = std::min(1.0, c.length_mm / prof.length_mm);
   r.covariance = tip_covariance(c);

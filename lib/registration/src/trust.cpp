@@ -138,6 +138,7 @@ void assess(const PclCloud& scan, const Tree& ref_tree, const Matcher& m, const 
   Eigen::SelfAdjointEigenSolver<Matrix6d> es(H);
   r.hessian_eigenvalues = es.eigenvalues() / std::max(1.0, double(n));
   r.weakest_direction = es.eigenvectors().col(0);
+  r.hessian_centre = sys.c, r.hessian_radius_mm = L;
   r.flat = 0, r.unobservable = 0;  // r may have been assessed at another pose before
   r.flat_from_mm = r.flat_to_mm = 0;
   for (int k = 0; k < 6; ++k)
@@ -235,6 +236,25 @@ bool weakest_is_rotation_about(const RegistrationResult& r, const Eigen::Vector3
 bool weakest_is_translation_along(const RegistrationResult& r, const Eigen::Vector3d& axis,
                                   double tol_deg) {
   return weakest_along(r, false, axis, tol_deg);
+}
+
+Pose along_weakest_to(const RegistrationResult& r, const Pose& toward) {
+  // The motion from r's pose to toward as a twist about the centre, in the Hessian's scaled
+  // coordinates [L w; v] (w: rotation vector, v: the centre's displacement), where the
+  // eigenvectors are orthonormal; its component along the weakest one is applied to r's pose.
+  const double L = r.hessian_radius_mm;
+  const Eigen::Vector3d& c = r.hessian_centre;
+  const Pose D = toward * r.T_scan_ref.inverse();
+  const Eigen::AngleAxisd turn(D.linear());
+  Vector6d d;
+  d << L * turn.angle() * turn.axis(), D * c - c;
+  const Vector6d& e = r.weakest_direction;
+  const double amount = e.squaredNorm() > 0 ? e.dot(d) / e.squaredNorm() : 0.0;
+  const Eigen::Vector3d w = amount * e.head<3>() / L, v = amount * e.tail<3>();
+  Pose M = Pose::Identity();
+  if (w.norm() > 0) M.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
+  M.translation() = c + v - M.linear() * c;
+  return M * r.T_scan_ref;
 }
 
 }  // namespace laserfit::registration

@@ -60,6 +60,12 @@ struct ControllerSettings {
   // the part up to ~50 mm from its believed pose (46 mm in test_correct), so only a gross
   // mistake is caught: a pose in metres read as mm, another frame, another arm's pose.
   double max_part_offset_mm = 100;
+  // A target trusted earlier in the trial and now `ambiguous` about one rotation only (the part
+  // in front of it hides what pinned that turn) keeps that turn from its last trusted
+  // measurement, if this scan puts it within these of that measurement: the target has not
+  // moved and the sensing arm repeats its scan pose to ~0.1 mm.
+  double tracked_target_mm = 0.5;
+  double tracked_target_deg = 0.5;
 };
 
 // Defaults for a cell: its correction limits (its approach error budget) go to the planner and
@@ -75,6 +81,7 @@ struct Measurement {
   bool part_axial_unknown = false;  // ambiguous along the part's own axis (harmless)
   // Set when the target's spin about this axis (scan frame) is the prior's, not measured.
   std::optional<Eigen::Vector3d> target_prior_spin_axis;
+  bool target_turn_tracked = false;  // its one unobservable turn is its last trusted measurement's
   registration::RegistrationResult target, part;
 };
 
@@ -106,6 +113,12 @@ bool acceptable(const registration::RegistrationResult& r, const std::string& we
 // rest of its orientation and its position kept: for a registration that left that spin
 // unobservable (the needle about its shaft).
 Pose with_prior_spin(const Pose& T, const Pose& prior, const Eigen::Vector3d& e);
+
+// A target's pose with its one unobservable turn taken from its last trusted measurement
+// `tracked` (ControllerSettings::tracked_target_mm), or nothing: not ambiguous about a single
+// rotation, or farther from that measurement than a target that has not moved can be.
+std::optional<Pose> turn_from_tracked(const registration::RegistrationResult& r,
+                                      const Pose& tracked, const ControllerSettings& s);
 
 Measurement measure(
     const PointCloud& scan, const PointCloud& target_ref, const PointCloud& part_ref,

@@ -35,6 +35,11 @@ struct RegistrationResult {
   Matrix6d covariance = Matrix6d::Zero();           // [rx ry rz (rad), tx ty tz (mm)], scan frame
   Vector6d hessian_eigenvalues = Vector6d::Zero();  // scaled, ascending
   Vector6d weakest_direction = Vector6d::Zero();    // [r (axis, scaled by the part's size) ; t]
+  // What the Hessian's directions are about (scan frame): the matched scan points' centroid, and
+  // their RMS distance from it, the length a rotation is scaled by (weakest_direction's r is the
+  // rotation in rad times it).
+  Eigen::Vector3d hessian_centre = Eigen::Vector3d::Zero();
+  double hessian_radius_mm = 1;
   int unobservable = 0;  // ambiguous: the directions it names (>= 1; a declared-weak one counts)
   int flat = 0;          // Hessian directions below ambiguity_ratio (declared weak or not)
   // Block-jackknife standard deviations (TrustSettings::jackknife_blocks): of the reference
@@ -86,6 +91,10 @@ bool weakest_is_rotation_about(const RegistrationResult& r, const Eigen::Vector3
                                double tol_deg = 10);
 bool weakest_is_translation_along(const RegistrationResult& r, const Eigen::Vector3d& axis,
                                   double tol_deg = 10);
+// r's pose moved along its weakest direction (a screw about hessian_centre) as far as `toward`
+// lies along it, to first order: the directions the scan pins keep r's values, the one it does
+// not takes toward's (say an earlier measurement of an object that has not moved).
+Pose along_weakest_to(const RegistrationResult& r, const Pose& toward);
 
 // The unit vector of the reference-frame axis named "x", "y" or "z" (how cells, benchmarks and
 // the CLI name a weak DoF); nullopt for "" (none). Throws laserfit::Error on any other name.
