@@ -34,7 +34,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         break;
       }
       default:
-        laserfit::controller::parse_strategy(text);
+        laserfit::parse_enum<laserfit::controller::Strategy>(text);
         break;
     }
   } catch (const laserfit::Error&) {

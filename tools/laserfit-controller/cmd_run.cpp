@@ -30,7 +30,7 @@ int run(const Options& o) {
   std::vector<Strategy> strategies;
   std::stringstream in(o.strategies);
   for (std::string x; std::getline(in, x, ',');)
-    if (!x.empty()) strategies.push_back(parse_strategy(x));
+    if (!x.empty()) strategies.push_back(parse_enum<Strategy>(x));
   if (o.first < 0 || o.trials < 1) throw Error("--first must be >= 0 and --trials >= 1");
   remote::RemoteCell cell({o.endpoint, o.timeout_s, o.tls_ca});
   Campaign campaign(cs, s, o.seed);
@@ -60,7 +60,7 @@ int run(const Options& o) {
       lines += outcome_json(x).dump() + "\n";
       inserted += x.success, ++done;
       if (!o.quiet)
-        std::cerr << "run: trial " << i << " " << strategy_name(st) << ": " << x.result << "\n";
+        std::cerr << "run: trial " << i << " " << name_of(st) << ": " << x.result << "\n";
       if (x.cell_fault) {  // the record says what happened; no further trial on this cell
         if (!o.out.empty()) write_file_atomic(o.out, lines);
         std::string why = x.result.substr(x.result.find(": ") + 2);  // after "refused: "

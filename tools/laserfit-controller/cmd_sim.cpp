@@ -70,7 +70,7 @@ int run(const Options& o) {
   {
     std::stringstream in(o.strategies);
     for (std::string x; std::getline(in, x, ',');)
-      if (!x.empty()) strategies.push_back(parse_strategy(x));
+      if (!x.empty()) strategies.push_back(parse_enum<Strategy>(x));
   }
   const int trials = o.trials > 0 ? o.trials : int(cs.target_poses.size()) * cs.start_configs;
   if (o.first < 0) throw Error("--first must be >= 0");
@@ -79,9 +79,9 @@ int run(const Options& o) {
   std::map<std::string, std::map<int, std::pair<int, int>>> by_setting;
   std::string lines;
   for (const auto& x : out) {
-    auto& r = rate[strategy_name(x.strategy)];
+    auto& r = rate[name_of(x.strategy)];
     r.first += x.success, r.second += 1;
-    auto& b = by_setting[strategy_name(x.strategy)][x.setting];
+    auto& b = by_setting[name_of(x.strategy)][x.setting];
     b.first += x.success, b.second += 1;
     lines += outcome_json(x).dump() + "\n";
   }

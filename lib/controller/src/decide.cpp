@@ -8,28 +8,6 @@
 
 namespace laserfit::controller {
 
-Strategy parse_strategy(const std::string& n) {
-  if (n == "ic1") return Strategy::ProprioIC1;
-  if (n == "ic2") return Strategy::ProprioIC2;
-  if (n == "laser") return Strategy::Laser;
-  if (n == "laser_pose") return Strategy::LaserPose;
-  throw Error("unknown strategy '" + n + "' (ic1, ic2, laser, laser_pose)");
-}
-
-const char* strategy_name(Strategy s) {
-  switch (s) {
-    case Strategy::ProprioIC1:
-      return "ic1";
-    case Strategy::ProprioIC2:
-      return "ic2";
-    case Strategy::Laser:
-      return "laser";
-    case Strategy::LaserPose:
-      return "laser_pose";
-  }
-  return "?";
-}
-
 bool acceptable(const registration::RegistrationResult& r, const std::string& weak_rot,
                 const std::string& weak_trans, const Pose& T, std::string* why) {
   if (r.status == registration::Status::Ok) return true;

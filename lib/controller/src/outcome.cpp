@@ -4,7 +4,7 @@
 namespace laserfit::controller {
 
 io::Json outcome_json(const Outcome& o) {
-  return {{"strategy", strategy_name(o.strategy)},
+  return {{"strategy", name_of(o.strategy)},
           {"setting", o.setting},
           {"start", o.start + 1},
           {"seed", o.seed},

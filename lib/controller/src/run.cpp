@@ -465,7 +465,7 @@ PointCloud Loop::sweep(const SweepRequest& req) {
 
 void Loop::dump(const PointCloud& scan) const {
   const std::string tag = "_s" + std::to_string(su_.setting), dir = s_.dump_dir + "/";
-  io::write_cloud(dir + strategy_name(o_.strategy) + tag + "_start" + std::to_string(o_.start + 1) +
+  io::write_cloud(dir + name_of(o_.strategy) + tag + "_start" + std::to_string(o_.start + 1) +
                       "_scan" + std::to_string(o_.scans) + ".pcd",
                   scan);
   io::write_cloud(dir + "target_ref" + tag + ".pcd", su_.target_ref);

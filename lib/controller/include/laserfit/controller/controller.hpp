@@ -13,6 +13,7 @@
 #include "laserfit/cell/cell.hpp"
 #include "laserfit/controller/motion_error.hpp"
 #include "laserfit/core/cloud.hpp"
+#include "laserfit/core/enum_names.hpp"
 #include "laserfit/io/json.hpp"
 #include "laserfit/planning/correction.hpp"
 #include "laserfit/registration/registration.hpp"
@@ -21,9 +22,7 @@
 
 namespace laserfit::controller {
 
-enum class Strategy { ProprioIC1, ProprioIC2, Laser, LaserPose };
-Strategy parse_strategy(const std::string& name);  // ic1 | ic2 | laser | laser_pose
-const char* strategy_name(Strategy s);
+enum class Strategy { ProprioIC1, ProprioIC2, Laser, LaserPose };  // names: EnumNames below
 
 struct ControllerSettings {
   registration::Thresholds thresholds;  // from laserfit tune (validated by its loader)
@@ -134,3 +133,15 @@ planning::Trajectory plan(const cell::Cell& c, const Pose& T_baseA_flange, const
                           const ControllerSettings& s);
 
 }  // namespace laserfit::controller
+
+namespace laserfit {
+template <>
+struct EnumNames<controller::Strategy> {
+  static constexpr const char* what = "strategy";
+  static constexpr std::pair<controller::Strategy, const char*> table[] = {
+      {controller::Strategy::ProprioIC1, "ic1"},
+      {controller::Strategy::ProprioIC2, "ic2"},
+      {controller::Strategy::Laser, "laser"},
+      {controller::Strategy::LaserPose, "laser_pose"}};
+};
+}  // namespace laserfit
