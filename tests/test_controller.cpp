@@ -62,9 +62,10 @@ TEST(Controller, CellFilesLoadAndBadOnesNameTheProblem) {
       {"base_error: [0.8, -0.5, 0.3,", "base_error: [80, -0.5, 0.3,", "not a calibration error"},
       {"max_correction_mm: 16", "max_correction_mm: 0", "max_correction_mm"},
       {"search_sweep_mm: 32", "search_sweep_mm: 2", "search_sweep_mm"},
-      {"stages: [0.6, 0.9]", "stages: [0.6, 0.9]\n  push_mm: 25", "push_mm"},
-      {"stages: [0.6, 0.9]", "stages: [0.6, 0.9]\n  clear_view_mm: [0, 40, 0]", "clear_view_mm"},
-      {"stages: [0.6, 0.9]", "stages: [0.6, 0.9]\n  clear_view_mm: [0, 8]", "clear_view_mm"}};
+      {"approach_sweep_mm: 16", "approach_sweep_mm: 2", "approach_sweep_mm"},
+      {"stages: [0.6, 0.8]", "stages: [0.6, 0.8]\n  push_mm: 25", "push_mm"},
+      {"stages: [0.6, 0.8]", "stages: [0.6, 0.8]\n  clear_view_mm: [0, 40, 0]", "clear_view_mm"},
+      {"stages: [0.6, 0.8]", "stages: [0.6, 0.8]\n  clear_view_mm: [0, 8]", "clear_view_mm"}};
   for (const auto& [from, to, what] : cases) {
     std::string t = text;
     ASSERT_NE(t.find(from), std::string::npos) << from;

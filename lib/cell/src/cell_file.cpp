@@ -124,7 +124,8 @@ static CellSettings load_cell_unguarded(const std::string& path) {
 
   const auto sa = R.need(root, "sensing_arm", "cell");
   R.only(sa, "sensing_arm",
-         {"sensor", "sensor_error", "scan_near_deg", "search_sweep_mm", "search_raise_mm"});
+         {"sensor", "sensor_error", "scan_near_deg", "approach_sweep_mm", "search_sweep_mm",
+          "search_raise_mm"});
   c.T_flange_sensor = R.pose(R.need(sa, "sensor", "sensing_arm"), "sensing_arm.sensor");
   c.sensor_error = rigid(R, sa, "sensor_error", "sensing_arm");
   c.q_sense_hint =
@@ -134,6 +135,11 @@ static CellSettings load_cell_unguarded(const std::string& path) {
         (c.search_sweep_mm >= c.scene.settings.sweep.length_mm && c.search_sweep_mm <= 100)))
     R.fail("sensing_arm.search_sweep_mm",
            "must be 0 (none) or from the scene's sweep length up to 100 mm");
+  c.approach_sweep_mm = R.num(sa, "approach_sweep_mm", 0, "sensing_arm");
+  if (!(c.approach_sweep_mm == 0 ||
+        (c.approach_sweep_mm >= c.scene.settings.sweep.length_mm && c.approach_sweep_mm <= 100)))
+    R.fail("sensing_arm.approach_sweep_mm",
+           "must be 0 (the scene's sweep) or from the scene's sweep length up to 100 mm");
   // The raised scan must still see the target: its range from the sweep's middle plus the raise
   // stays inside the far limit.
   const auto& sc = c.scene.settings;

@@ -375,7 +375,8 @@ bool Loop::scan_until_trusted(bool gated, bool outside, Correction& corr) {
   const auto& cs = c_.s;
   const bool orient = o_.strategy == Strategy::LaserPose;
   m_ = Measurement{};
-  double sweep_mm = 0;  // the scene's sweep, from the taught scan pose
+  // The scene's sweep, from the taught scan pose; the trial's first scan may sweep longer.
+  double sweep_mm = o_.scans == 0 ? cs.approach_sweep_mm : 0;
   bool raised = false;
   for (int k = 0; k < s_.max_scans && !m_.ok; ++k) {
     const uint64_t seed = scan_seed(seed_, o_.scans);
@@ -395,7 +396,7 @@ bool Loop::scan_until_trusted(bool gated, bool outside, Correction& corr) {
     // and then (not in the long sweep either) nearer to the scanner than its measuring range.
     const std::string not_found =
         "no trusted " + cs.scene.objects[cs.part].name + " near the target: next scan ";
-    if (m_.target_ok && !m_.ok && sweep_mm == 0 && cs.search_sweep_mm > 0) {
+    if (m_.target_ok && !m_.ok && sweep_mm < cs.search_sweep_mm) {
       sweep_mm = cs.search_sweep_mm;
       o_.log.push_back(not_found + "sweeps " + fmt(sweep_mm) + " mm");
     } else if (m_.target_ok && !m_.ok && !raised && cs.search_raise_mm > 0) {

@@ -61,14 +61,17 @@ struct CellSettings {
   robot::ErrorModelSettings arm_errors;
   robot::Joints q_teach_hint = robot::Joints::Zero();  // assembling arm near IC1 when teaching
   robot::Joints q_sense_hint = robot::Joints::Zero();  // sensing arm near its scan pose
-  double search_sweep_mm = 0;  // when the part is not found, re-scan with a sweep this long
-                               // (same centre); 0: the scene's sweep only
-  double search_raise_mm = 0;  // when not found in the search sweep either, the next scan
-                               // is taken from this much farther back along the view axis
-                               // (the part may be nearer than the measuring range); 0: no
-  double ic2_joint1_deg = 90;  // IC2 = IC1 with this added to joint 1
-  int start_configs = 10;      // q^(1..N), each farther from the insertion pose
-  double start_step_mm = 25;   //   the i-th starts i * step from it
+  double search_sweep_mm = 0;    // when the part is not found, re-scan with a sweep this long
+                                 // (same centre); 0: the scene's sweep only
+  double approach_sweep_mm = 0;  // the trial's first scan, after the proprioceptive approach
+                                 // (where the part is least known), sweeps this long (same
+                                 // centre); 0: the scene's sweep
+  double search_raise_mm = 0;    // when not found in the search sweep either, the next scan
+                                 // is taken from this much farther back along the view axis
+                                 // (the part may be nearer than the measuring range); 0: no
+  double ic2_joint1_deg = 90;    // IC2 = IC1 with this added to joint 1
+  int start_configs = 10;        // q^(1..N), each farther from the insertion pose
+  double start_step_mm = 25;     //   the i-th starts i * step from it
   // DoFs a registration may leave unobservable without harm (an `ambiguous` about them is
   // accepted): the needle's spin about its shaft, the thread's spin and slide along its own
   // axis. "" or x|y|z (object frame).
