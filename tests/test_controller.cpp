@@ -272,7 +272,7 @@ TEST(Controller, SearchSweepSeesAPartOutsideTheSceneSweep) {
   Pose part = su.T_world_target * approach;
   part.translation().y() += 8;  // the sweep runs along the world's y (scene file)
   const Pose believed = seen_at(c, su.q_scan, su.T_world_sensor_start, part);
-  std::mt19937_64 g(1);
+  laserfit::Mt19937_64 g(1);
   EXPECT_EQ(points_on_part(controller::scan_cell(c, su, part, 5, g), believed), 0);
   const PointCloud wide = controller::scan_cell(c, su, part, 5, g, cs.search_sweep_mm);
   scan::SweepSettings longer = cs.scene.settings.sweep;
@@ -298,7 +298,7 @@ TEST(Controller, RaisedScanSeesAPartAboveTheMeasuringRange) {
   approach.translation() = cs.approach_mm;
   Pose part = su.T_world_target * approach;
   part.translation().z() += 12;
-  std::mt19937_64 g(1);
+  laserfit::Mt19937_64 g(1);
   const PointCloud near = controller::scan_cell(c, su, part, 5, g, cs.search_sweep_mm);
   EXPECT_EQ(points_on_part(near, seen_at(c, su.q_scan, su.T_world_sensor_start, part)), 0);
   const PointCloud raised = controller::scan_cell(c, su, part, 5, g, cs.search_sweep_mm, true);

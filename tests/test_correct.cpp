@@ -65,7 +65,7 @@ TEST(Correct, FromFilesItPlansWhatTheLibraryPlansOnATrueMeasurement) {
   // where its true kinematics put it, and the sensing arm scans the cell as it truly is.
   Pose approach = cs.T_target_part_insert;
   approach.translation() = cs.approach_mm;
-  std::mt19937_64 g(5);
+  laserfit::Mt19937_64 g(5);
   robot::Repeatability rep(cs.arm_errors);
   const robot::Joints q =
       robot::move_cartesian(c.nominal, su.q_start[0],

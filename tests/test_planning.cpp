@@ -20,7 +20,7 @@ robot::Joints ready() {
   return q;
 }
 
-Pose random_correction(const Pose& start, double max_mm, double max_deg, std::mt19937_64& g) {
+Pose random_correction(const Pose& start, double max_mm, double max_deg, laserfit::Mt19937_64& g) {
   Eigen::Vector3d t, axis;
   do t = Eigen::Vector3d(uniform01(g), uniform01(g), uniform01(g)) * 2 - Eigen::Vector3d::Ones();
   while (t.norm() > 1);
@@ -43,7 +43,7 @@ TEST(Planning, RandomCorrectionsNeverViolateTheLimits) {
   const auto arm = robot::ArmModel::panda();
   const Pose start = arm.fk(ready());
   planning::CorrectionSettings s;
-  std::mt19937_64 g(5);
+  laserfit::Mt19937_64 g(5);
   for (int k = 0; k < 200; ++k) {
     const Pose goal = random_correction(start, s.max_translation_mm, s.max_rotation_deg, g);
     const auto tr = planning::plan_correction(start, goal, s);

@@ -15,7 +15,7 @@ namespace {
 
 const robot::ArmModel kPanda = robot::ArmModel::panda();
 
-Joints random_q(std::mt19937_64& g, double margin = 0.2) {
+Joints random_q(laserfit::Mt19937_64& g, double margin = 0.2) {
   Joints q;
   for (int j = 0; j < 7; ++j) {
     const double lo = kPanda.limits.q_min[j] + margin, hi = kPanda.limits.q_max[j] - margin;
@@ -49,7 +49,7 @@ TEST(Robot, ZeroPoseMatchesThePublishedFlangePosition) {
 
 // Tolerance: 1e-5 (central differences with h = 1e-6 rad; mm per rad and rad per rad).
 TEST(Robot, JacobianMatchesFiniteDifferences) {
-  std::mt19937_64 g(7);
+  laserfit::Mt19937_64 g(7);
   for (int k = 0; k < 20; ++k) {
     const Joints q = random_q(g);
     const robot::Jacobian J = kPanda.jacobian(q);
@@ -68,7 +68,7 @@ TEST(Robot, JacobianMatchesFiniteDifferences) {
 
 // Tolerance: every solve converges to 1e-6 mm / 1e-8 rad from a start 0.3 rad away per joint.
 TEST(Robot, IkRoundTrips) {
-  std::mt19937_64 g(11);
+  laserfit::Mt19937_64 g(11);
   for (int k = 0; k < 50; ++k) {
     const Joints q = random_q(g, 0.4);
     Joints start = q;

@@ -63,7 +63,7 @@ std::vector<Trial> enumerate_trials(const Benchmark& b) {
         t.seed = trial_seed(b.seed, uint64_t(t.index));
         t.conditions = cells[c];
         if (b.mode == Sampling::Random) {
-          std::mt19937_64 g = block_rng(b.seed, 2000 + s, uint64_t(r));
+          Mt19937_64 g = block_rng(b.seed, 2000 + s, uint64_t(r));
           for (const auto& [name, range] : b.axes)
             axis(t.conditions, name) =
                 range.size() == 1 ? range[0] : range[0] + uniform01(g) * (range[1] - range[0]);
@@ -102,7 +102,7 @@ namespace {
 // frame) instead when given, by an angle uniform in [-deg, deg]; the random axis is drawn all the
 // same, so the translations are those of the uniform draws. The pivot's point of the object ends
 // within `mm` of its nominal place.
-Pose perturbed(const Pose& nominal, double deg, double mm, std::mt19937_64& g,
+Pose perturbed(const Pose& nominal, double deg, double mm, Mt19937_64& g,
                const Eigen::Vector3d& pivot = Eigen::Vector3d::Zero(),
                const std::optional<Eigen::Vector3d>& fixed = std::nullopt) {
   auto unit_ball = [&] {
@@ -187,7 +187,7 @@ TrialInput simulate_trial(const Benchmark& b, const PreparedScene& p, const Tria
   sw.length_mm *= c.sweep_fraction;
   // Pose draws depend on (scene, repetition) only: every grid cell sees the same poses, so a
   // curve over an axis compares like with like (a paired design).
-  std::mt19937_64 g = block_rng(b.seed, 1000 + uint64_t(t.scene), uint64_t(t.repetition));
+  Mt19937_64 g = block_rng(b.seed, 1000 + uint64_t(t.scene), uint64_t(t.repetition));
   std::vector<Pose> nominal;
   for (size_t k = 0; k < p.object.size(); ++k) {
     Pose& T = s.objects[p.object[k]].T_base_object;

@@ -22,7 +22,7 @@ Cell::Cell(const CellSettings& settings, uint64_t robot_seed)
   T_flange_sensor_true = s.T_flange_sensor * error_pose(s.sensor_error);
 }
 
-Pose Cell::part_true(const robot::Joints& qA, robot::Repeatability& rep, std::mt19937_64& g) const {
+Pose Cell::part_true(const robot::Joints& qA, robot::Repeatability& rep, Mt19937_64& g) const {
   return T_world_baseA_true * rep.reach(trueA.fk(qA), g) * T_flange_part_true;
 }
 

@@ -41,7 +41,7 @@ SimSetup prepare_setting(const cell::Cell& c, int k, const ControllerSettings& s
   su.q_ic2_ref = su.q_taught;
   su.q_ic2_ref[0] += cs.ic2_joint1_deg * M_PI / 180;
   // Start configurations: the i-th is i * step from the insertion pose (up and aside, seeded).
-  std::mt19937_64 g = block_rng(seed, 0x57A87, uint64_t(k));
+  Mt19937_64 g = block_rng(seed, 0x57A87, uint64_t(k));
   for (int i = 1; i <= cs.start_configs; ++i) {
     const double dy = 2 * uniform01(g) - 1;  // drawn first: GCC's argument order, as recorded
     const double dx = 2 * uniform01(g) - 1;
@@ -109,7 +109,7 @@ SweepRequest sweep_request(const cell::Cell& c, const SimSetup& su, double sweep
 }
 
 scan::ScanResult sweep_cell(const cell::Cell& c, const SimSetup& su, const Pose& T_world_part_true,
-                            uint64_t seed, std::mt19937_64& g, const SweepRequest& r) {
+                            uint64_t seed, Mt19937_64& g, const SweepRequest& r) {
   const auto& cs = c.s;
   scan::ScanScene sc = cs.scene;
   sc.seed = seed;
@@ -135,7 +135,7 @@ scan::ScanResult sweep_cell(const cell::Cell& c, const SimSetup& su, const Pose&
 }
 
 PointCloud scan_cell(const cell::Cell& c, const SimSetup& su, const Pose& T_world_part_true,
-                     uint64_t seed, std::mt19937_64& g, double sweep_mm, bool raised) {
+                     uint64_t seed, Mt19937_64& g, double sweep_mm, bool raised) {
   return sweep_cell(c, su, T_world_part_true, seed, g, sweep_request(c, su, sweep_mm, raised))
       .cloud;
 }

@@ -35,7 +35,7 @@ bool coarse_align_gated(const PclCloud::Ptr& ref, const Features::Ptr& ref_f,
   rtree.setInputCloud(ref);
   const double max_d = s.max_correspondence_vox * voxel;
   const double cos_gate = std::cos(rho_rot_deg * M_PI / 360);  // |<q, q0>| >= cos(rho / 2)
-  std::mt19937_64 g = block_rng(seed, 0x52414E53, 0);
+  Mt19937_64 g = block_rng(seed, 0x52414E53, 0);
   size_t best_inliers = 0;
   std::vector<int> nn(1);
   std::vector<float> nd(1);

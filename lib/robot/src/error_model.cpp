@@ -22,7 +22,7 @@ void ErrorModelSettings::validate() const {
 
 ArmModel perturbed_arm(const ArmModel& nominal, const ErrorModelSettings& s, uint64_t seed) {
   s.validate();
-  std::mt19937_64 g = block_rng(seed, 0xA4A, 0);
+  Mt19937_64 g = block_rng(seed, 0xA4A, 0);
   auto signed_in = [&](double lo, double hi) {
     const double m = lo + (hi - lo) * uniform01(g);
     return uniform01(g) < 0.5 ? -m : m;
@@ -50,7 +50,7 @@ Pose small_motion(const Eigen::Matrix<double, 6, 1>& e, const ErrorModelSettings
 }
 }  // namespace
 
-Pose Repeatability::reach(const Pose& T, std::mt19937_64& g) {
+Pose Repeatability::reach(const Pose& T, Mt19937_64& g) {
   Eigen::Matrix<double, 6, 1> fresh;
   for (int i = 0; i < 6; ++i) fresh[i] = gauss(g);
   const double d = started_ ? (T.translation() - last_).norm() : 1e300;
@@ -60,7 +60,7 @@ Pose Repeatability::reach(const Pose& T, std::mt19937_64& g) {
   return T * small_motion(e_, s_);
 }
 
-Pose with_repeatability(const Pose& T, const ErrorModelSettings& s, std::mt19937_64& g) {
+Pose with_repeatability(const Pose& T, const ErrorModelSettings& s, Mt19937_64& g) {
   // One draw per statement: the order of a constructor's arguments is unspecified, and the
   // same seed must give the same arm with any compiler (this is GCC's order, as recorded).
   Eigen::Vector3d dt, dr;

@@ -18,7 +18,7 @@ void along_ray(Sample& s, double d) {
 }  // namespace
 
 void apply_noise(std::vector<Sample>& p, const NoiseSettings& n,
-                 const sensor::LineScannerGeometry& g, double bias_mm, std::mt19937_64& rng,
+                 const sensor::LineScannerGeometry& g, double bias_mm, Mt19937_64& rng,
                  ScanStats& stats) {
   const size_t m = p.size();
   // Mixed pixels: the spot straddles a depth edge and the peak lands in between.

@@ -1,7 +1,7 @@
 #pragma once
 // Sensor noise and artefacts on one profile (private to lib/scan).
-#include <random>
 #include <vector>
+#include "laserfit/core/rng.hpp"
 
 #include "laserfit/scan/scanner.hpp"
 
@@ -20,7 +20,7 @@ struct Sample {
 // signal, grazing angles), depth noise along the laser ray (sigma / cos incidence) plus speckle
 // correlated along the profile, x jitter, specular outliers, per-scan bias, depth quantisation.
 void apply_noise(std::vector<Sample>& profile, const NoiseSettings& n,
-                 const sensor::LineScannerGeometry& g, double bias_mm, std::mt19937_64& rng,
+                 const sensor::LineScannerGeometry& g, double bias_mm, Mt19937_64& rng,
                  ScanStats& stats);
 
 }  // namespace laserfit::scan

@@ -1,13 +1,14 @@
 #include "laserfit/scan/scanner.hpp"
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
+#include "laserfit/core/big_buffer.hpp"
 #include "laserfit/core/error.hpp"
 #include "laserfit/core/rng.hpp"
 #include "laserfit/raycast/scene.hpp"
@@ -27,12 +28,12 @@ Pose twist(const Eigen::Vector3d& t_mm, const Eigen::Vector3d& r_rad) {
   return T;
 }
 
-Eigen::Vector3d gauss3(std::mt19937_64& g, double sigma) {
+Eigen::Vector3d gauss3(Mt19937_64& g, double sigma) {
   return {gauss(g) * sigma, gauss(g) * sigma, gauss(g) * sigma};
 }
 
 // Smooth per-profile deviation of the carrying arm: AR(1) per component, stationary sigma.
-std::vector<Pose> motion_jitter(const MotionSettings& m, int profiles, std::mt19937_64& g) {
+std::vector<Pose> motion_jitter(const MotionSettings& m, int profiles, Mt19937_64& g) {
   std::vector<Pose> J(profiles, Pose::Identity());
   if (!m.enabled || (m.jitter_sigma_mm == 0 && m.jitter_sigma_deg == 0)) return J;
   const double rho = std::exp(-1.0 / m.jitter_corr_profiles), k = std::sqrt(1 - rho * rho);
@@ -45,36 +46,12 @@ std::vector<Pose> motion_jitter(const MotionSettings& m, int profiles, std::mt19
   return J;
 }
 
-struct Atomics {
-  std::atomic<size_t> rays{0}, hits{0}, valid{0}, range{0}, grazing{0}, camera{0}, drop{0}, out{0},
-      mixed{0};
-  std::atomic<int64_t> laser_ns{0}, camera_ns{0}, noise_ns{0};
-};
-
-int64_t ns_since(Clock::time_point t) {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t).count();
-}
-
-}  // namespace
-
-ScanResult simulate_scan(const ScanScene& sc) {
-  const auto t_start = Clock::now();
-  const ScanSettings& s = sc.settings;
-  s.validate(sc.file.empty() ? "scan settings" : sc.file);
-  if (sc.objects.empty()) throw Error(sc.file, "scene has no objects");
-  const auto& g = s.sensor;
-  const int W = g.points_per_profile, H = s.sweep.profiles();
-
-  raycast::Scene scene;
-  for (const auto& o : sc.objects) scene.add_mesh(o.mesh, o.T_base_object);
-  scene.commit();
-  ScanResult r;
-  r.seed = sc.seed;
-  r.timings.bvh_s = std::chrono::duration<double>(Clock::now() - t_start).count();
-
-  // Per-scan draws (one generator, fixed order): rigid arm error, depth bias, jitter sequence.
-  auto global = block_rng(sc.seed, kStreamGlobal, 0);
+// The per-scan draws (one generator, fixed order): rigid arm error, depth bias, jitter. Fills the
+// nominal (believed) and true sensor pose of every profile; returns the depth bias (mm).
+double sensor_poses(const ScanSettings& s, uint64_t seed, ScanResult& r) {
+  auto global = block_rng(seed, kStreamGlobal, 0);
   const auto& m = s.motion;
+  const int H = s.sweep.profiles();
   Pose E_offset = Pose::Identity(), E_calib = Pose::Identity();
   const Eigen::Vector3d off_t = gauss3(global, m.offset_sigma_mm);
   const Eigen::Vector3d off_r = gauss3(global, m.offset_sigma_deg * M_PI / 180.0);
@@ -85,7 +62,6 @@ ScanResult simulate_scan(const ScanScene& sc) {
     E_calib = twist({c[0], c[1], c[2]}, Eigen::Vector3d(c[3], c[4], c[5]) * M_PI / 180.0);
   }
   const std::vector<Pose> J = motion_jitter(m, H, global);
-
   r.T_base_sensor_nominal.resize(H);
   r.T_base_sensor_true.resize(H);
   for (int i = 0; i < H; ++i) {
@@ -94,92 +70,159 @@ ScanResult simulate_scan(const ScanScene& sc) {
     r.T_base_sensor_nominal[i] = s.sweep.T_base_sensor_start * step;
     r.T_base_sensor_true[i] = E_offset * r.T_base_sensor_nominal[i] * J[i] * E_calib;
   }
-  std::vector<Eigen::Vector3d> ray_dir(W);
-  for (int j = 0; j < W; ++j) ray_dir[j] = g.ray_direction(j);
-  const float t_max = static_cast<float>(g.z_max_mm / std::cos(g.half_fan_rad()) + 1.0);
+  return bias;
+}
 
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  r.cloud.points.assign(size_t(W) * H, Eigen::Vector3f::Constant(nan));
-  r.cloud.labels.assign(size_t(W) * H, -1);
-  r.raw.points.assign(size_t(W) * H, Eigen::Vector3f::Constant(nan));
-  Atomics a;
+// One profile's working memory, kept per thread: a scan has thousands of profiles.
+struct Profile {
+  std::vector<Eigen::Vector3f> dirs, from, to;
+  std::vector<raycast::Hit> hits;
+  std::vector<Sample> samples;
+  std::vector<int> label;
+  std::vector<uint8_t> check, clear;
+  ScanStats stats;
 
+  void reset(int W) {
+    dirs.resize(W), from.resize(W), to.resize(W);
+    samples.assign(W, Sample{});
+    label.assign(W, -1);
+    check.assign(W, 0), clear.assign(W, 1);
+    stats = ScanStats{};
+  }
+};
+
+struct Counters {
+  std::atomic<size_t> rays{0}, hits{0}, valid{0}, range{0}, grazing{0}, camera{0}, drop{0}, out{0},
+      mixed{0};
+  std::atomic<int64_t> laser_ns{0}, camera_ns{0}, noise_ns{0};
+
+  void add(const ScanStats& s) {
+    rays += s.rays, hits += s.hits, valid += s.valid, range += s.out_of_range;
+    grazing += s.grazing, camera += s.camera_shadow, drop += s.dropouts, out += s.outliers;
+    mixed += s.mixed_pixels;
+  }
+  ScanStats total() const { return {rays, hits, valid, range, grazing, camera, drop, out, mixed}; }
+};
+
+int64_t ns_since(Clock::time_point t) {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t).count();
+}
+
+// What is fixed for a whole scan: the scene, the sensor and the fan of ray directions.
+struct Setup {
+  const ScanScene& sc;
+  const raycast::Scene& scene;
+  std::vector<Eigen::Vector3d> ray_dir;  // sensor frame
+  float t_max = 0;
+  double bias_mm = 0;
+};
+
+// 1. Laser fan: the first surface along each ray is the lit point (laser shadows are implicit);
+// kept if in the depth range, not too grazing and inside the camera's angle.
+void light(const Setup& u, const Pose& Tt, Profile& p) {
+  const auto& g = u.sc.settings.sensor;
+  const int W = g.points_per_profile;
+  const sensor::LineScannerView view(Tt, g, /*swept=*/false);
+  const Eigen::Vector3f origin = Tt.translation().cast<float>();
+  for (int j = 0; j < W; ++j) p.dirs[j] = (Tt.linear() * u.ray_dir[j]).cast<float>();
+  u.scene.intersect_fan(origin, p.dirs, 0.f, u.t_max, p.hits);
+  const Eigen::Vector3f camera = view.camera_in_scene();
+  p.stats.rays = W;
+  for (int j = 0; j < W; ++j) {
+    const raycast::Hit& h = p.hits[j];
+    if (!h.valid()) continue;
+    ++p.stats.hits;
+    const Eigen::Vector3d& d = u.ray_dir[j];
+    const double z = h.t * d.z();
+    if (z < g.z_min_mm || z > g.z_max_mm) {
+      ++p.stats.out_of_range;
+      continue;
+    }
+    const double cos_inc = -h.normal.dot(p.dirs[j]);
+    if (cos_inc < view.cos_max_incidence()) {
+      ++p.stats.grazing;
+      continue;
+    }
+    const Eigen::Vector3f x = origin + h.t * p.dirs[j];
+    if (!view.camera_angle_ok(x, h.normal, camera)) {
+      ++p.stats.camera_shadow;
+      continue;
+    }
+    p.samples[j] = {true, h.t * d.x(), z, d.x(), d.z(), cos_inc, u.sc.objects[h.geom].shiny};
+    p.label[j] = h.geom;
+    p.from[j] = x + sensor::kSelfShadowEps_mm * h.normal;
+    p.to[j] = camera;
+    p.check[j] = 1;
+  }
+}
+
+// 2. Camera shadow: the camera must see the lit point.
+void shade(const Setup& u, Profile& p) {
+  u.scene.segments_clear(p.from, p.to, p.check, sensor::kSelfShadowEps_mm, p.clear);
+  for (size_t j = 0; j < p.check.size(); ++j)
+    if (p.check[j] && !p.clear[j])
+      p.samples[j].valid = false, p.label[j] = -1, ++p.stats.camera_shadow;
+}
+
+// 3. Noise, then report through the nominal pose (the robot's belief). Writes the whole row
+// (NaN and label -1 where there is no measurement).
+void report(const Setup& u, int i, Profile& p, ScanResult& r) {
+  const auto& s = u.sc.settings;
+  if (s.noise.enabled) {
+    auto rng = block_rng(u.sc.seed, kStreamProfile, uint64_t(i));
+    apply_noise(p.samples, s.noise, s.sensor, u.bias_mm, rng, p.stats);
+  }
+  const Pose& Tn = r.T_base_sensor_nominal[i];
+  const Eigen::Vector3f nan = Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
+  const size_t W = p.samples.size(), row = size_t(i) * W;
+  for (size_t j = 0; j < W; ++j) {
+    const Sample& m = p.samples[j];
+    const size_t k = row + j;
+    if (!m.valid) {
+      r.raw.points[k] = r.cloud.points[k] = nan, r.cloud.labels[k] = -1;
+      continue;
+    }
+    ++p.stats.valid;
+    const Eigen::Vector3d ps(m.x, 0.0, m.z);
+    r.raw.points[k] = ps.cast<float>();
+    r.cloud.points[k] = (Tn * ps).cast<float>();
+    r.cloud.labels[k] = p.label[j];
+  }
+}
+
+void scan_profiles(const Setup& u, ScanResult& r) {
+  const int W = u.sc.settings.sensor.points_per_profile, H = u.sc.settings.sweep.profiles();
+  // Every row is written by its profile, in parallel: no serial first pass over the output.
+  resize_advised(r.cloud.points, size_t(W) * H);
+  resize_advised(r.raw.points, size_t(W) * H);
+  resize_advised(r.cloud.labels, size_t(W) * H);
+  tbb::enumerable_thread_specific<Profile> work;
+  Counters c;
   tbb::parallel_for(0, H, [&](int i) {
-    const Pose& Tt = r.T_base_sensor_true[i];
-    const sensor::LineScannerView view(Tt, g, /*swept=*/false);
+    Profile& p = work.local();
+    p.reset(W);
     auto t0 = Clock::now();
-    // 1. Laser fan: first surface along each ray = the lit point (laser shadows are implicit).
-    const Eigen::Vector3f origin = Tt.translation().cast<float>();
-    std::vector<Eigen::Vector3f> dirs(W);
-    for (int j = 0; j < W; ++j) dirs[j] = (Tt.linear() * ray_dir[j]).cast<float>();
-    std::vector<raycast::Hit> hits;
-    scene.intersect_fan(origin, dirs, 0.f, t_max, hits);
-    std::vector<Sample> prof(W);
-    std::vector<int> label(W, -1);
-    std::vector<Eigen::Vector3f> from(W), to(W);
-    std::vector<uint8_t> check(W, 0), clear(W, 1);
-    const Eigen::Vector3f camera = view.camera_in_scene();
-    size_t n_hits = 0, n_range = 0, n_graze = 0, n_cam = 0;
-    for (int j = 0; j < W; ++j) {
-      const raycast::Hit& h = hits[j];
-      if (!h.valid()) continue;
-      ++n_hits;
-      const double z = h.t * ray_dir[j].z();
-      if (z < g.z_min_mm || z > g.z_max_mm) {
-        ++n_range;
-        continue;
-      }
-      const double cos_inc = -h.normal.dot(dirs[j]);
-      if (cos_inc < view.cos_max_incidence()) {
-        ++n_graze;
-        continue;
-      }
-      const Eigen::Vector3f p = origin + h.t * dirs[j];
-      if (!view.camera_angle_ok(p, h.normal, camera)) {
-        ++n_cam;
-        continue;
-      }
-      prof[j] = {true,    h.t * ray_dir[j].x(),    z, ray_dir[j].x(), ray_dir[j].z(),
-                 cos_inc, sc.objects[h.geom].shiny};
-      label[j] = h.geom;
-      from[j] = p + sensor::kSelfShadowEps_mm * h.normal;
-      to[j] = camera;
-      check[j] = 1;
-    }
-    a.laser_ns += ns_since(t0);
-    // 2. Camera shadow: the camera must see the lit point.
+    light(u, r.T_base_sensor_true[i], p);
+    c.laser_ns += ns_since(t0);
     t0 = Clock::now();
-    scene.segments_clear(from, to, check, sensor::kSelfShadowEps_mm, clear);
-    for (int j = 0; j < W; ++j)
-      if (check[j] && !clear[j]) prof[j].valid = false, label[j] = -1, ++n_cam;
-    a.camera_ns += ns_since(t0);
-    // 3. Noise, then report through the nominal pose (the robot's belief).
+    shade(u, p);
+    c.camera_ns += ns_since(t0);
     t0 = Clock::now();
-    ScanStats st;
-    if (s.noise.enabled) {
-      auto rng = block_rng(sc.seed, kStreamProfile, uint64_t(i));
-      apply_noise(prof, s.noise, g, bias, rng, st);
-    }
-    const Pose& Tn = r.T_base_sensor_nominal[i];
-    size_t n_valid = 0;
-    for (int j = 0; j < W; ++j) {
-      if (!prof[j].valid) continue;
-      ++n_valid;
-      const Eigen::Vector3d ps(prof[j].x, 0.0, prof[j].z);
-      const size_t k = size_t(i) * W + j;
-      r.raw.points[k] = ps.cast<float>();
-      r.cloud.points[k] = (Tn * ps).cast<float>();
-      r.cloud.labels[k] = label[j];
-    }
-    a.noise_ns += ns_since(t0);
-    a.rays += W, a.hits += n_hits, a.valid += n_valid, a.range += n_range, a.grazing += n_graze;
-    a.camera += n_cam, a.drop += st.dropouts, a.out += st.outliers, a.mixed += st.mixed_pixels;
+    report(u, i, p, r);
+    c.noise_ns += ns_since(t0);
+    c.add(p.stats);
   });
+  r.stats = c.total();
+  r.timings.laser_s = c.laser_ns * 1e-9;
+  r.timings.camera_s = c.camera_ns * 1e-9;
+  r.timings.noise_s = c.noise_ns * 1e-9;
+}
 
-  r.cloud.width = r.raw.width = W;
-  r.cloud.height = r.raw.height = H;
-  r.stats = {a.rays, a.hits, a.valid, a.range, a.grazing, a.camera, a.drop, a.out, a.mixed};
-  const int mid = H / 2;
+void describe(const ScanScene& sc, ScanResult& r) {
+  const auto& s = sc.settings;
+  r.cloud.width = r.raw.width = s.sensor.points_per_profile;
+  r.cloud.height = r.raw.height = s.sweep.profiles();
+  const int mid = r.cloud.height / 2;
   for (const auto& o : sc.objects)
     r.T_scan_object.push_back(r.T_base_sensor_nominal[mid] * r.T_base_sensor_true[mid].inverse() *
                               o.T_base_object);
@@ -191,9 +234,29 @@ ScanResult simulate_scan(const ScanScene& sc) {
   r.cloud.metadata["noise"] = s.noise.enabled ? "on" : "off";
   // Where the sensor was (mid-sweep, nominal): registration orients scan normals towards it.
   r.cloud.sensor_origin = r.T_base_sensor_nominal[mid].translation();
-  r.timings.laser_s = a.laser_ns * 1e-9;
-  r.timings.camera_s = a.camera_ns * 1e-9;
-  r.timings.noise_s = a.noise_ns * 1e-9;
+}
+
+}  // namespace
+
+ScanResult simulate_scan(const ScanScene& sc) {
+  const auto t_start = Clock::now();
+  const ScanSettings& s = sc.settings;
+  s.validate(sc.file.empty() ? "scan settings" : sc.file);
+  if (sc.objects.empty()) throw Error(sc.file, "scene has no objects");
+  raycast::Scene scene;
+  for (const auto& o : sc.objects) scene.add_mesh(o.mesh, o.T_base_object);
+  scene.commit();
+  ScanResult r;
+  r.seed = sc.seed;
+  r.timings.bvh_s = std::chrono::duration<double>(Clock::now() - t_start).count();
+
+  const auto& g = s.sensor;
+  Setup u{sc, scene, std::vector<Eigen::Vector3d>(g.points_per_profile)};
+  for (int j = 0; j < g.points_per_profile; ++j) u.ray_dir[j] = g.ray_direction(j);
+  u.t_max = static_cast<float>(g.z_max_mm / std::cos(g.half_fan_rad()) + 1.0);
+  u.bias_mm = sensor_poses(s, sc.seed, r);
+  scan_profiles(u, r);
+  describe(sc, r);
   r.timings.total_s = std::chrono::duration<double>(Clock::now() - t_start).count();
   return r;
 }

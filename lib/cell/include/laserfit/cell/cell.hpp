@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "laserfit/core/rng.hpp"
 #include "laserfit/robot/arm.hpp"
 #include "laserfit/robot/error_model.hpp"
 #include "laserfit/scan/scanner.hpp"
@@ -91,7 +92,7 @@ struct Cell {
   Cell(const CellSettings& settings, uint64_t robot_seed);
   // Where the part really is when the assembling arm's joints are q (plus repeatability noise,
   // correlated with the arm's previous poses through `rep`).
-  Pose part_true(const robot::Joints& qA, robot::Repeatability& rep, std::mt19937_64& g) const;
+  Pose part_true(const robot::Joints& qA, robot::Repeatability& rep, Mt19937_64& g) const;
   // Where the controller believes the part is (nominal kinematics, believed calibration).
   Pose part_believed(const robot::Joints& qA) const;
   Pose part_believed_from_flange(const Pose& T_baseA_flange) const;

@@ -6,6 +6,7 @@
 
 #include "laserfit/controller/cell_port.hpp"
 #include "laserfit/controller/controller.hpp"
+#include "laserfit/core/rng.hpp"
 #include "laserfit/robot/error_model.hpp"
 
 namespace laserfit::controller {
@@ -77,7 +78,7 @@ class SimCell : public CellPort {
   const SimSetup& su_;
   uint64_t seed_;
   robot::MotionSettings arm_;
-  std::mt19937_64 g_;
+  Mt19937_64 g_;
   robot::Repeatability rep_;
   robot::Joints q_;
   std::optional<Pose> part_;  // the part's true pose (world) once the arm has moved
@@ -128,9 +129,9 @@ SweepRequest sweep_request(const cell::Cell& c, const SimSetup& su, double sweep
 // A sweep of the cell as it truly is, in the frame the sensing arm believes (what the real sensor
 // delivers): the sensing arm at r.q_start (its repeatability drawn from g), the part where it is.
 scan::ScanResult sweep_cell(const cell::Cell& c, const SimSetup& su, const Pose& T_world_part_true,
-                            uint64_t seed, std::mt19937_64& g, const SweepRequest& r);
+                            uint64_t seed, Mt19937_64& g, const SweepRequest& r);
 // Its cloud, for the sweep_request(c, su, sweep_mm, raised).
 PointCloud scan_cell(const cell::Cell& c, const SimSetup& su, const Pose& T_world_part_true,
-                     uint64_t seed, std::mt19937_64& g, double sweep_mm = 0, bool raised = false);
+                     uint64_t seed, Mt19937_64& g, double sweep_mm = 0, bool raised = false);
 
 }  // namespace laserfit::controller

@@ -5,7 +5,7 @@
 // configuration: a pose taught in one configuration (IC1) is reproduced to the repeatability,
 // the same pose reached with another elbow (IC2) is off by millimetres.
 #include <cstdint>
-#include <random>
+#include "laserfit/core/rng.hpp"
 
 #include "laserfit/robot/arm.hpp"
 
@@ -26,7 +26,7 @@ struct ErrorModelSettings {
 ArmModel perturbed_arm(const ArmModel& nominal, const ErrorModelSettings& s, uint64_t seed);
 
 // A reached pose with repeatability noise: T * small random motion in the flange frame.
-Pose with_repeatability(const Pose& T, const ErrorModelSettings& s, std::mt19937_64& g);
+Pose with_repeatability(const Pose& T, const ErrorModelSettings& s, Mt19937_64& g);
 
 // Repeatability along a sequence of reached poses: the error is an AR(1) process over the path
 // length (friction and elasticity that settle the same way after a small move), fresh after a
@@ -34,7 +34,7 @@ Pose with_repeatability(const Pose& T, const ErrorModelSettings& s, std::mt19937
 class Repeatability {
  public:
   explicit Repeatability(const ErrorModelSettings& s) : s_(s) {}
-  Pose reach(const Pose& T_base_flange_true, std::mt19937_64& g);
+  Pose reach(const Pose& T_base_flange_true, Mt19937_64& g);
 
  private:
   ErrorModelSettings s_;
