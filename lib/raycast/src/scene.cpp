@@ -17,8 +17,32 @@ void check(RTCDevice device, const char* during) {
                 std::to_string(static_cast<int>(code)) + ")");
 }
 
-// 8-wide packets: native on AVX2 and AVX-512 builds of Embree 3 (16-wide is not on AVX2).
-constexpr int kPacket = 8;
+// Packets of 16 rays where Embree runs them natively (AVX-512), else of 8 (AVX2); the
+// overloads pick Embree's entry point by packet type.
+template <int N>
+struct Packet;
+template <>
+struct Packet<8> {
+  using RayHit = RTCRayHit8;
+  using Ray = RTCRay8;
+};
+template <>
+struct Packet<16> {
+  using RayHit = RTCRayHit16;
+  using Ray = RTCRay16;
+};
+void packet_intersect(const int* v, RTCScene s, RTCIntersectContext* c, RTCRayHit8* r) {
+  rtcIntersect8(v, s, c, r);
+}
+void packet_intersect(const int* v, RTCScene s, RTCIntersectContext* c, RTCRayHit16* r) {
+  rtcIntersect16(v, s, c, r);
+}
+void packet_occluded(const int* v, RTCScene s, RTCIntersectContext* c, RTCRay8* r) {
+  rtcOccluded8(v, s, c, r);
+}
+void packet_occluded(const int* v, RTCScene s, RTCIntersectContext* c, RTCRay16* r) {
+  rtcOccluded16(v, s, c, r);
+}
 
 }  // namespace
 
@@ -28,11 +52,23 @@ struct Scene::Impl {
   std::vector<std::vector<Eigen::Vector3f>> normals;  // per geometry, per triangle (scene frame)
   size_t triangles = 0;
   bool committed = false;
+  bool wide = false;  // native 16-wide packets
+
+  template <int N>
+  void fan(const Eigen::Vector3f& o, const std::vector<Eigen::Vector3f>& dirs, float tnear,
+           float tfar, std::vector<Hit>& hits) const;
+  template <int N>
+  void segments(const std::vector<Eigen::Vector3f>& from, const std::vector<Eigen::Vector3f>& to,
+                const std::vector<uint8_t>& active, float eps, std::vector<uint8_t>& clear) const;
 };
 
-Scene::Scene() : impl_(std::make_unique<Impl>()) {
+Scene::Scene(PacketWidth packets) : impl_(std::make_unique<Impl>()) {
   impl_->device = rtcNewDevice("verbose=0");
   if (!impl_->device) throw Error("Embree: cannot create device");
+  impl_->wide =
+      packets == PacketWidth::native
+          ? rtcGetDeviceProperty(impl_->device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) == 1
+          : packets == PacketWidth::w16;
   impl_->scene = rtcNewScene(impl_->device);
   // Robust traversal: no ray slips through a shared edge, which would punch false holes into the
   // shadow tests of a watertight part.
@@ -127,12 +163,19 @@ bool Scene::segment_clear(const Eigen::Vector3f& from, const Eigen::Vector3f& to
 
 void Scene::intersect_fan(const Eigen::Vector3f& o, const std::vector<Eigen::Vector3f>& dirs,
                           float tnear, float tfar, std::vector<Hit>& hits) const {
+  if (impl_->wide) return impl_->fan<16>(o, dirs, tnear, tfar, hits);
+  impl_->fan<8>(o, dirs, tnear, tfar, hits);
+}
+
+template <int kPacket>
+void Scene::Impl::fan(const Eigen::Vector3f& o, const std::vector<Eigen::Vector3f>& dirs,
+                      float tnear, float tfar, std::vector<Hit>& hits) const {
   hits.assign(dirs.size(), Hit{});
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // rays of a fan share origin and direction
-  alignas(64) RTCRayHit8 rh;
-  alignas(32) int valid[kPacket];
+  alignas(64) typename Packet<kPacket>::RayHit rh;
+  alignas(64) int valid[kPacket];
   for (size_t base = 0; base < dirs.size(); base += kPacket) {
     for (int k = 0; k < kPacket; ++k) {
       const size_t i = base + k;
@@ -144,14 +187,14 @@ void Scene::intersect_fan(const Eigen::Vector3f& o, const std::vector<Eigen::Vec
       rh.ray.mask[k] = 0xFFFFFFFFu, rh.ray.time[k] = 0.f, rh.ray.flags[k] = 0;
       rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
     }
-    rtcIntersect8(valid, impl_->scene, &ctx, &rh);
+    packet_intersect(valid, scene, &ctx, &rh);
     for (int k = 0; k < kPacket && base + k < dirs.size(); ++k) {
       if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) continue;
       Hit& h = hits[base + k];
       h.t = rh.ray.tfar[k];
       h.geom = static_cast<int>(rh.hit.geomID[k]);
       h.prim = static_cast<int>(rh.hit.primID[k]);
-      h.normal = impl_->normals[h.geom][h.prim];
+      h.normal = normals[h.geom][h.prim];
     }
   }
 }
@@ -160,10 +203,19 @@ void Scene::segments_clear(const std::vector<Eigen::Vector3f>& from,
                            const std::vector<Eigen::Vector3f>& to,
                            const std::vector<uint8_t>& active, float eps,
                            std::vector<uint8_t>& clear) const {
+  if (impl_->wide) return impl_->segments<16>(from, to, active, eps, clear);
+  impl_->segments<8>(from, to, active, eps, clear);
+}
+
+template <int kPacket>
+void Scene::Impl::segments(const std::vector<Eigen::Vector3f>& from,
+                           const std::vector<Eigen::Vector3f>& to,
+                           const std::vector<uint8_t>& active, float eps,
+                           std::vector<uint8_t>& clear) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
-  alignas(64) RTCRay8 r;
-  alignas(32) int valid[kPacket];
+  alignas(64) typename Packet<kPacket>::Ray r;
+  alignas(64) int valid[kPacket];
   // Gather active rays into full packets (inactive ones would waste packet lanes).
   std::vector<size_t> idx;
   for (size_t i = 0; i < from.size(); ++i)
@@ -183,7 +235,7 @@ void Scene::segments_clear(const std::vector<Eigen::Vector3f>& from,
       r.tnear[k] = eps, r.tfar[k] = len - eps;
       r.mask[k] = 0xFFFFFFFFu, r.time[k] = 0.f, r.flags[k] = 0;
     }
-    rtcOccluded8(valid, impl_->scene, &ctx, &r);
+    packet_occluded(valid, scene, &ctx, &r);
     for (int k = 0; k < kPacket && base + k < idx.size(); ++k)
       clear[idx[base + k]] = valid[k] == 0 || r.tfar[k] >= 0.f;
   }

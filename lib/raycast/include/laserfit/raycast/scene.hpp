@@ -20,9 +20,14 @@ struct Hit {
   bool valid() const { return geom >= 0; }
 };
 
+// Width of the ray packets of the batch calls: the widest Embree runs natively on this CPU (16
+// on AVX-512, else 8), or one forced (Embree emulates a width it has no kernel for). The hits do
+// not depend on it.
+enum class PacketWidth { native, w8, w16 };
+
 class Scene {
  public:
-  Scene();
+  explicit Scene(PacketWidth packets = PacketWidth::native);
   ~Scene();
   Scene(Scene&&) noexcept;
   Scene& operator=(Scene&&) noexcept;
@@ -39,8 +44,8 @@ class Scene {
   // Is the straight segment from `from` to `to` free of geometry (ends excluded by `eps` mm)?
   bool segment_clear(const Eigen::Vector3f& from, const Eigen::Vector3f& to, float eps) const;
 
-  // Coherent batches (Embree 8-wide packets): a laser profile is 2048 rays from one emitter.
-  // hits[i] is the first hit of ray (origin, dirs[i]) within [tnear, tfar].
+  // Coherent batches (Embree packets of PacketWidth): a laser profile is 2048 rays from one
+  // emitter. hits[i] is the first hit of ray (origin, dirs[i]) within [tnear, tfar].
   void intersect_fan(const Eigen::Vector3f& origin, const std::vector<Eigen::Vector3f>& dirs,
                      float tnear, float tfar, std::vector<Hit>& hits) const;
   // clear[i] = segment from[i] -> to[i] free of geometry (ends excluded by eps), for the rays
