@@ -221,7 +221,8 @@ bench-cad: build
 
 bench-scan: build
 	@mkdir -p $(RESULTS)/scan
-	$(BIN)/bench_scan --benchmark_out=$(RESULTS)/scan/bench_scan.json --benchmark_out_format=json \
+	$(BIN)/bench_scan --benchmark_repetitions=5 --benchmark_min_time=2 \
+	  --benchmark_out=$(RESULTS)/scan/bench_scan.json --benchmark_out_format=json \
 	  --benchmark_counters_tabular=true | tee $(RESULTS)/scan/bench_scan.txt
 
 # Registration accuracy campaign (benchmarks/registration.yaml, every method) with the Open3D
