@@ -219,6 +219,18 @@ TEST(Controller, RefusesLargeCorrectionsAndUntrustedRegistrations) {
   EXPECT_TRUE(tr.samples.empty());
   delta.translation() = Eigen::Vector3d(0.3, -0.2, 0);
   EXPECT_TRUE(controller::plan(c, c.nominal.fk(q), delta, s).ok);
+  // Folded into a stage step the budget is the correction's: 12 mm with a 6 mm step (18 mm in
+  // all, limit 16) goes, 16.5 mm does not, however short the step.
+  Pose step = Pose::Identity(), corr = Pose::Identity();
+  step.translation() = Eigen::Vector3d(0, 6, 0);
+  corr.translation() = Eigen::Vector3d(0, 12, 0);
+  EXPECT_GT((step * corr).translation().norm(), s.correction.max_translation_mm);
+  EXPECT_TRUE(controller::plan_folded(c, c.nominal.fk(q), corr, step, s).ok);
+  corr.translation() = Eigen::Vector3d(0, s.correction.max_translation_mm + 0.5, 0);
+  step.translation() = Eigen::Vector3d(0, -2, 0);
+  const auto folded = controller::plan_folded(c, c.nominal.fk(q), corr, step, s);
+  EXPECT_FALSE(folded.ok);
+  EXPECT_NE(folded.reason.find("exceeds the limit"), std::string::npos) << folded.reason;
 
   registration::RegistrationResult r;
   std::string why;

@@ -86,4 +86,15 @@ planning::Trajectory plan(const cell::Cell& c, const Pose& T_baseA_flange, const
   return planning::plan_correction(T_baseA_flange, goal, s.correction);
 }
 
+planning::Trajectory plan_folded(const cell::Cell& c, const Pose& T_baseA_flange,
+                                 const Pose& correction, const Pose& step,
+                                 const ControllerSettings& s) {
+  const planning::Trajectory alone = plan(c, T_baseA_flange, correction, s);
+  if (!alone.ok) return alone;
+  ControllerSettings with_step = s;
+  with_step.correction.max_translation_mm += step.translation().norm();
+  with_step.correction.max_rotation_deg += Eigen::AngleAxisd(step.linear()).angle() * 180 / M_PI;
+  return plan(c, T_baseA_flange, step * correction, with_step);
+}
+
 }  // namespace laserfit::controller

@@ -143,8 +143,9 @@ bool Loop::move_on(const Pose& d) {
   const Pose D = d * pending_;
   unverified_mm_ = pending_mm_;
   if (pending_.isApprox(Pose::Identity())) return shift(D, s_.motion.min_duration_s);
+  const Pose correction = pending_;
   pending_ = Pose::Identity(), pending_mm_ = 0;
-  const planning::Trajectory tr = plan(c_, c_.nominal.fk(cell_.joints()), D, s_);
+  const auto tr = plan_folded(c_, c_.nominal.fk(cell_.joints()), correction, d, s_);
   if (!tr.ok) return why_ = tr.reason, false;
   return shift(D, std::max(tr.duration_s, s_.motion.min_duration_s));
 }

@@ -131,6 +131,12 @@ Measurement measure(
 // applies `delta` (world frame) through the believed base-to-base transform; refused if too large.
 planning::Trajectory plan(const cell::Cell& c, const Pose& T_baseA_flange, const Pose& delta,
                           const ControllerSettings& s);
+// A correction folded into a step the cell takes anyway (`step`, world frame; the move is
+// step * correction): the cell's limit bounds the correction alone, and the combined move is
+// checked against that limit widened by the step.
+planning::Trajectory plan_folded(const cell::Cell& c, const Pose& T_baseA_flange,
+                                 const Pose& correction, const Pose& step,
+                                 const ControllerSettings& s);
 
 }  // namespace laserfit::controller
 
