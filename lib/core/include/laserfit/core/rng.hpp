@@ -15,7 +15,7 @@ inline uint64_t mix_seed(uint64_t x) {
   return x ^ (x >> 31);
 }
 
-// The 64-bit Mersenne Twister (Nishimura & Matsumoto 2000), bit-for-bit Mt19937_64 (tested
+// The 64-bit Mersenne Twister (Nishimura & Matsumoto 2000), bit-for-bit std::mt19937_64 (tested
 // against it), with a branch-free twist: libstdc++'s branches on the low bit of every word,
 // which a CPU mispredicts half the time (6 ns per number against 1.7; the scanner draws ~6 per
 // point). A UniformRandomBitGenerator: std distributions and algorithms take it.
