@@ -77,20 +77,27 @@ ControllerSettings settings_for(const cell::CellSettings& cs) {
   return s;
 }
 
+namespace {
+// delta acts in the world (the scan frame); in A's base it is conjugated by the believed base
+// transform, so only its rotation part matters for a translation: calibration errors cancel.
+Pose goal_in_base(const cell::Cell& c, const Pose& T_baseA_flange, const Pose& delta) {
+  const Pose& B = c.T_world_baseA_believed;
+  return B.inverse() * delta * B * T_baseA_flange;
+}
+}  // namespace
+
 planning::Trajectory plan(const cell::Cell& c, const Pose& T_baseA_flange, const Pose& delta,
                           const ControllerSettings& s) {
-  // delta acts in the world (the scan frame); in A's base it is conjugated by the believed base
-  // transform, so only its rotation part matters for a translation: calibration errors cancel.
-  const Pose& B = c.T_world_baseA_believed;
-  const Pose goal = B.inverse() * delta * B * T_baseA_flange;
-  return planning::plan_correction(T_baseA_flange, goal, s.correction);
+  return planning::plan_correction(T_baseA_flange, goal_in_base(c, T_baseA_flange, delta),
+                                   s.correction);
 }
 
 planning::Trajectory plan_folded(const cell::Cell& c, const Pose& T_baseA_flange,
                                  const Pose& correction, const Pose& step,
                                  const ControllerSettings& s) {
-  const planning::Trajectory alone = plan(c, T_baseA_flange, correction, s);
-  if (!alone.ok) return alone;
+  const planning::Trajectory alone = planning::check_correction(
+      T_baseA_flange, goal_in_base(c, T_baseA_flange, correction), s.correction);
+  if (!alone.reason.empty()) return alone;
   ControllerSettings with_step = s;
   with_step.correction.max_translation_mm += step.translation().norm();
   with_step.correction.max_rotation_deg += Eigen::AngleAxisd(step.linear()).angle() * 180 / M_PI;

@@ -40,24 +40,29 @@ void CorrectionSettings::validate() const {
         "correction settings: amplitudes > 0, rate 10..100000 Hz, speed fraction in (0, 1]");
 }
 
-Trajectory plan_correction(const Pose& A, const Pose& B, const CorrectionSettings& s) {
+Trajectory check_correction(const Pose& A, const Pose& B, const CorrectionSettings& s) {
   s.validate();
   Trajectory tr;
-  const Eigen::Vector3d dp = B.translation() - A.translation();
   const Eigen::AngleAxisd dR(A.linear().transpose() * B.linear());  // rotation in the start frame
-  tr.translation_mm = dp.norm(), tr.rotation_deg = dR.angle() * 180 / M_PI;
+  tr.translation_mm = (B.translation() - A.translation()).norm();
+  tr.rotation_deg = dR.angle() * 180 / M_PI;
   if (!A.matrix().allFinite() || !B.matrix().allFinite()) {
     tr.reason = "non-finite start or goal pose";
-    return tr;
-  }
-  if (tr.translation_mm > s.max_translation_mm || tr.rotation_deg > s.max_rotation_deg) {
+  } else if (tr.translation_mm > s.max_translation_mm || tr.rotation_deg > s.max_rotation_deg) {
     std::ostringstream m;
     m << "correction of " << tr.translation_mm << " mm / " << tr.rotation_deg
       << " deg exceeds the limit of " << s.max_translation_mm << " mm / " << s.max_rotation_deg
       << " deg";
     tr.reason = m.str();
-    return tr;
   }
+  return tr;
+}
+
+Trajectory plan_correction(const Pose& A, const Pose& B, const CorrectionSettings& s) {
+  Trajectory tr = check_correction(A, B, s);
+  if (!tr.reason.empty()) return tr;
+  const Eigen::Vector3d dp = B.translation() - A.translation();
+  const Eigen::AngleAxisd dR(A.linear().transpose() * B.linear());  // rotation in the start frame
   const auto& L = s.limits;
   const double f = s.speed_fraction;
   double T = std::max({duration_for(tr.translation_mm, f * L.v_mm_s, f * L.a_mm_s2, f * L.j_mm_s3),

@@ -39,6 +39,10 @@ struct Trajectory {
 
 Trajectory plan_correction(const Pose& T_base_start, const Pose& T_base_goal,
                            const CorrectionSettings& s);
+// Only the limit check of plan_correction: translation_mm, rotation_deg and, when refused, the
+// reason (ok stays false; no duration, no samples).
+Trajectory check_correction(const Pose& T_base_start, const Pose& T_base_goal,
+                            const CorrectionSettings& s);
 
 // The joint path that follows a trajectory (IK per sample, seeded by the previous one), checked
 // against the arm's joint position, velocity, acceleration and jerk limits.
